@@ -1,0 +1,42 @@
+# polyloc: `make run` and `make test` do everything on a fresh Debian 12 machine (as root):
+# install the Debian packages that are missing, configure a Release build, build, then run.
+BUILD_DIR ?= build
+JOBS      ?= $(shell nproc)
+
+# Debian 12 packages the build needs; `make deps` installs the missing ones, quietly.
+APT_PACKAGES := g++ cmake ninja-build pkg-config \
+  libeigen3-dev libembree-dev libtbb-dev libassimp-dev libyaml-cpp-dev \
+  libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev \
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev
+
+.PHONY: run test deps configure build bench clean
+
+run: build
+	$(BUILD_DIR)/bin/polyloc demo --map maps/lab.obj --out $(BUILD_DIR)/demo.png
+
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+deps:
+	@missing=""; for p in $(APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:$$missing"; \
+	  if [ "$$(id -u)" != 0 ]; then echo "run as root (or sudo apt-get install$$missing)" >&2; exit 1; fi; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null \
+	    || { echo "apt-get install failed for:$$missing" >&2; exit 1; }; \
+	fi
+
+configure: deps
+	@[ -f $(BUILD_DIR)/build.ninja ] || cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release
+
+build: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+bench: build
+	$(BUILD_DIR)/bin/bench_raycast --benchmark_counters_tabular=true
+
+clean:
+	rm -rf $(BUILD_DIR)

@@ -1,0 +1,43 @@
+// Embree 3 backend: one scene per map (BVH built once), packets of 16 for the beams of one pose,
+// TBB over poses in an arena of the configured size, nothing allocated in the hot path.
+#pragma once
+
+#include <polyloc/map/mesh.hpp>
+#include <polyloc/raycast/ray_caster.hpp>
+
+#include <memory>
+
+namespace polyloc {
+
+struct EmbreeOptions {
+  int threads = 0;               // 0 = all cores
+  bool robust = true;            // watertight traversal: no rays slip through shared edges
+  bool high_quality_bvh = true;  // slower build (SAH with spatial splits), faster rays
+};
+
+class EmbreeCaster final : public RayCaster {
+ public:
+  explicit EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options = {});
+  ~EmbreeCaster() override;
+  EmbreeCaster(const EmbreeCaster&) = delete;
+  EmbreeCaster& operator=(const EmbreeCaster&) = delete;
+
+  const char* name() const override { return "embree"; }
+  void castScans(std::span<const Pose> sensor_poses, const BeamSet& beams, const HitBuffers& out,
+                 const ScanWindow& window = {}) const override;
+  void castRays(const RayBatch& rays, const HitBuffers& out) const override;
+  void queryFree(std::span<const Eigen::Vector3f> points, float clearance,
+                 uint8_t* free) const override;
+  void setThreads(int threads) override;
+  int threads() const override;
+
+  // The plain reference: one rtcIntersect1 per ray over the same rays as castScans, same
+  // threading. Only ranges. Kept for the benchmark that holds the packet path to account.
+  void castScansSingle(std::span<const Pose> sensor_poses, const BeamSet& beams, float* range) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace polyloc

@@ -1,0 +1,26 @@
+// 2D laser scanner (SICK S300/LMS200, Hokuyo URG): beams fanned in the sensor's x-y plane,
+// counter-clockwise from -fov/2 to +fov/2 as in sensor_msgs/LaserScan. Mount it tilted
+// (pitch/roll in the mount pose) for the thesis's funnel of tilted scanners.
+#pragma once
+
+#include <polyloc/sensors/beams.hpp>
+
+namespace polyloc {
+
+struct PlanarScannerSpec {
+  double fov_rad = 4.71238898038469;        // 270 deg
+  double resolution_rad = 0.00872664625997;  // 0.5 deg
+  double range_min = 0.05;
+  double range_max = 30.0;
+  double rate_hz = 12.5;
+
+  size_t numBeams() const;     // floor(fov / resolution) + 1, beams centred on the x axis
+  double angleMin() const;     // angle of the first beam (radians, about z)
+  BeamSet beams() const;
+};
+
+PlanarScannerSpec sickS300();     // 270 deg, 0.5 deg, 30 m, 12.5 Hz (541 beams)
+PlanarScannerSpec hokuyoURG04LX();  // 240 deg, 0.36 deg, 4 m, 10 Hz (667 beams)
+PlanarScannerSpec sickLMS200();   // 180 deg, 0.5 deg, 8 m, 75 Hz (361 beams)
+
+}  // namespace polyloc

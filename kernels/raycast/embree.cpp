@@ -1,0 +1,292 @@
+#include <polyloc/geometry/closest_point.hpp>
+#include <polyloc/raycast/embree.hpp>
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace polyloc {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr int kPacket = 16;
+
+// Directions for the inside-solid vote: irregular, so none runs along an axis-aligned wall.
+const float kVoteDirs[3][3] = {{0.5377f, 0.8314f, 0.1397f},
+                               {-0.7071f, 0.3162f, -0.6325f},
+                               {0.1925f, -0.8660f, 0.4615f}};
+
+struct ClearanceQuery {
+  const Mesh* mesh;
+  bool too_close = false;
+};
+
+bool clearanceCallback(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<ClearanceQuery*>(args->userPtr);
+  const Triangle& t = q->mesh->triangles[args->primID];
+  const Eigen::Vector3f p(args->query->x, args->query->y, args->query->z);
+  const Eigen::Vector3f c = closestPointOnTriangle(p, q->mesh->vertices[t[0]],
+                                                   q->mesh->vertices[t[1]], q->mesh->vertices[t[2]]);
+  if ((c - p).norm() < args->query->radius) {
+    q->too_close = true;
+    args->query->radius = 0.f;  // answer known: shrink the query so traversal ends
+    return true;
+  }
+  return false;
+}
+
+template <class Hit>
+unsigned primOf(const Hit& hit, int k) {
+  return hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID : hit.primID[k];
+}
+
+}  // namespace
+
+struct EmbreeCaster::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  Mesh mesh;  // copy: labels, normals and vertices for results and clearance queries
+  std::vector<float> nx, ny, nz;
+  std::unique_ptr<tbb::task_arena> arena;
+  int threads = 0;
+
+  // Writes one ray's result; `dir` is the unit direction, `t0`/`t1` the window.
+  void finish(const HitBuffers& out, size_t i, float tfar, unsigned prim, float dx, float dy,
+              float dz, float t0, float t1, const CastOptions& opt) const {
+    if (prim == RTC_INVALID_GEOMETRY_ID) {
+      out.range[i] = opt.miss_is_max_range ? t1 : kInf;
+      if (out.triangle) out.triangle[i] = kNoHit;
+      if (out.label) out.label[i] = 0;
+      if (out.nx) out.nx[i] = out.ny[i] = out.nz[i] = 0.f;
+      return;
+    }
+    const bool back = nx[prim] * dx + ny[prim] * dy + nz[prim] * dz > 0.f;
+    out.range[i] = back && opt.backface_is_solid ? t0 : tfar;
+    if (out.triangle) out.triangle[i] = prim;
+    if (out.label) out.label[i] = mesh.triangle_label[prim];
+    if (out.nx) {
+      out.nx[i] = nx[prim];
+      out.ny[i] = ny[prim];
+      out.nz[i] = nz[prim];
+    }
+  }
+
+  template <class F>
+  void parallel(size_t n, size_t grain, F&& body) const {
+    arena->execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
+                        [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+    });
+  }
+};
+
+EmbreeCaster::EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options) : impl_(new Impl) {
+  Impl& m = *impl_;
+  if (mesh.triangles.empty()) throw std::invalid_argument("EmbreeCaster: the map has no triangles");
+  m.mesh = mesh;
+  m.device = rtcNewDevice(nullptr);
+  if (!m.device) throw std::runtime_error("Embree: cannot create device (error " +
+                                          std::to_string(rtcGetDeviceError(nullptr)) + ")");
+  m.scene = rtcNewScene(m.device);
+  rtcSetSceneFlags(m.scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  rtcSetSceneBuildQuality(m.scene, options.high_quality_bvh ? RTC_BUILD_QUALITY_HIGH
+                                                            : RTC_BUILD_QUALITY_MEDIUM);
+  RTCGeometry geom = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Embree-owned buffers are padded as its SIMD loads require.
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                        mesh.vertices.size()));
+  for (size_t i = 0; i < mesh.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) v[3 * i + k] = mesh.vertices[i][k];
+  auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
+                                                             RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
+                                                             mesh.triangles.size()));
+  const size_t nt = mesh.triangles.size();
+  m.nx.resize(nt);
+  m.ny.resize(nt);
+  m.nz.resize(nt);
+  for (size_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (mesh.triangles[t][k] >= mesh.vertices.size())
+        throw std::invalid_argument("EmbreeCaster: triangle " + std::to_string(t) +
+                                    " references a missing vertex");
+      idx[3 * t + k] = mesh.triangles[t][k];
+    }
+    const Eigen::Vector3f n = mesh.triangleNormal(t);
+    m.nx[t] = n.x();
+    m.ny[t] = n.y();
+    m.nz[t] = n.z();
+  }
+  rtcSetGeometryPointQueryFunction(geom, clearanceCallback);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(m.scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(m.scene);
+  if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE)
+    throw std::runtime_error("Embree: scene build failed for " + mesh.source);
+  setThreads(options.threads);
+}
+
+EmbreeCaster::~EmbreeCaster() {
+  if (impl_->scene) rtcReleaseScene(impl_->scene);
+  if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+void EmbreeCaster::setThreads(int threads) {
+  impl_->threads = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
+  impl_->arena = std::make_unique<tbb::task_arena>(impl_->threads);
+}
+
+int EmbreeCaster::threads() const { return impl_->threads; }
+
+void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
+                             const HitBuffers& out, const ScanWindow& window) const {
+  const Impl& m = *impl_;
+  const size_t nb = beams.size();
+  if (nb == 0 || poses.empty()) return;
+  const CastOptions opt = options;
+  m.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // the beams of one pose share an origin
+    alignas(64) RTCRayHit16 rh;
+    alignas(64) int valid[kPacket];
+    float t0[kPacket], t1[kPacket];  // windows, kept because Embree overwrites tfar
+    for (size_t p = p0; p < p1; ++p) {
+      const Eigen::Matrix3f R = poses[p].rotation().toRotationMatrix().cast<float>();
+      const Eigen::Vector3f o = poses[p].translation().cast<float>();
+      for (size_t b0 = 0; b0 < nb; b0 += kPacket) {
+        const int n = static_cast<int>(std::min<size_t>(kPacket, nb - b0));
+        for (int k = 0; k < kPacket; ++k) {
+          const size_t b = b0 + std::min(k, n - 1);  // pad lanes with a real ray, masked off
+          const Eigen::Vector3f d = R * Eigen::Vector3f(beams.dx[b], beams.dy[b], beams.dz[b]);
+          rh.ray.org_x[k] = o.x();
+          rh.ray.org_y[k] = o.y();
+          rh.ray.org_z[k] = o.z();
+          rh.ray.dir_x[k] = d.x();
+          rh.ray.dir_y[k] = d.y();
+          rh.ray.dir_z[k] = d.z();
+          rh.ray.tnear[k] = window.tmin ? std::max(beams.range_min, window.tmin[b]) : beams.range_min;
+          rh.ray.tfar[k] = window.tmax ? std::min(beams.range_max, window.tmax[b]) : beams.range_max;
+          rh.ray.time[k] = 0.f;
+          rh.ray.mask[k] = 0xFFFFFFFFu;
+          rh.ray.id[k] = 0;
+          rh.ray.flags[k] = 0;
+          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+          // An empty window sees nothing: its lane stays off and reports a miss.
+          valid[k] = k < n && rh.ray.tnear[k] <= rh.ray.tfar[k] ? -1 : 0;
+          t0[k] = rh.ray.tnear[k];
+          t1[k] = rh.ray.tfar[k];
+        }
+        rtcIntersect16(valid, m.scene, &ctx, &rh);
+        for (int k = 0; k < n; ++k)
+          m.finish(out, p * nb + b0 + k, rh.ray.tfar[k], primOf(rh.hit, k), rh.ray.dir_x[k],
+                   rh.ray.dir_y[k], rh.ray.dir_z[k], t0[k], t1[k], opt);
+      }
+    }
+  });
+}
+
+void EmbreeCaster::castScansSingle(std::span<const Pose> poses, const BeamSet& beams,
+                                   float* range) const {
+  const Impl& m = *impl_;
+  const size_t nb = beams.size();
+  m.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    for (size_t p = p0; p < p1; ++p) {
+      const Eigen::Matrix3f R = poses[p].rotation().toRotationMatrix().cast<float>();
+      const Eigen::Vector3f o = poses[p].translation().cast<float>();
+      for (size_t b = 0; b < nb; ++b) {
+        const Eigen::Vector3f d = R * Eigen::Vector3f(beams.dx[b], beams.dy[b], beams.dz[b]);
+        rh.ray = {o.x(), o.y(), o.z(), beams.range_min, d.x(), d.y(), d.z(), 0.f,
+                  beams.range_max, 0xFFFFFFFFu, 0, 0};
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(m.scene, &ctx, &rh);
+        range[p * nb + b] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
+      }
+    }
+  });
+}
+
+void EmbreeCaster::castRays(const RayBatch& rays, const HitBuffers& out) const {
+  const Impl& m = *impl_;
+  const CastOptions opt = options;
+  const size_t npk = (rays.count + kPacket - 1) / kPacket;
+  m.parallel(npk, 64, [&](size_t q0, size_t q1) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    alignas(64) RTCRayHit16 rh;
+    alignas(64) int valid[kPacket];
+    float t0[kPacket], t1[kPacket];
+    for (size_t q = q0; q < q1; ++q) {
+      const size_t i0 = q * kPacket;
+      const int n = static_cast<int>(std::min<size_t>(kPacket, rays.count - i0));
+      for (int k = 0; k < kPacket; ++k) {
+        const size_t i = i0 + std::min(k, n - 1);
+        rh.ray.org_x[k] = rays.ox[i];
+        rh.ray.org_y[k] = rays.oy[i];
+        rh.ray.org_z[k] = rays.oz[i];
+        rh.ray.dir_x[k] = rays.dx[i];
+        rh.ray.dir_y[k] = rays.dy[i];
+        rh.ray.dir_z[k] = rays.dz[i];
+        rh.ray.tnear[k] = t0[k] = rays.tmin ? rays.tmin[i] : 0.f;
+        rh.ray.tfar[k] = t1[k] = rays.tmax ? rays.tmax[i] : kInf;
+        rh.ray.time[k] = 0.f;
+        rh.ray.mask[k] = 0xFFFFFFFFu;
+        rh.ray.id[k] = 0;
+        rh.ray.flags[k] = 0;
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        valid[k] = k < n && t0[k] <= t1[k] ? -1 : 0;
+      }
+      rtcIntersect16(valid, m.scene, &ctx, &rh);
+      for (int k = 0; k < n; ++k)
+        m.finish(out, i0 + k, rh.ray.tfar[k], primOf(rh.hit, k), rh.ray.dir_x[k],
+                 rh.ray.dir_y[k], rh.ray.dir_z[k], t0[k], t1[k], opt);
+    }
+  });
+}
+
+// Inside: the first surface met is a back face for most of three irregular directions (a point
+// inside a closed solid sees only back faces). Clearance: an Embree point query of radius r.
+void EmbreeCaster::queryFree(std::span<const Eigen::Vector3f> points, float clearance,
+                             uint8_t* free) const {
+  const Impl& m = *impl_;
+  m.parallel(points.size(), 64, [&](size_t i0, size_t i1) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCPointQueryContext pctx;
+    for (size_t i = i0; i < i1; ++i) {
+      const Eigen::Vector3f& p = points[i];
+      int back = 0;
+      for (const auto& d : kVoteDirs) {
+        RTCRayHit rh;
+        rh.ray = {p.x(), p.y(), p.z(), 0.f, d[0], d[1], d[2], 0.f, kInf, 0xFFFFFFFFu, 0, 0};
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(m.scene, &ctx, &rh);
+        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+          const unsigned t = rh.hit.primID;
+          back += m.nx[t] * d[0] + m.ny[t] * d[1] + m.nz[t] * d[2] > 0.f;
+        }
+      }
+      bool ok = back < 2;
+      if (ok && clearance > 0.f) {
+        RTCPointQuery q{p.x(), p.y(), p.z(), 0.f, clearance};
+        ClearanceQuery cq{&m.mesh};
+        rtcInitPointQueryContext(&pctx);
+        rtcPointQuery(m.scene, &q, &pctx, nullptr, &cq);
+        ok = !cq.too_close;
+      }
+      free[i] = ok ? 1 : 0;
+    }
+  });
+}
+
+}  // namespace polyloc

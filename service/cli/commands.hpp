@@ -1,0 +1,14 @@
+// Subcommands of the `polyloc` CLI; each group lives in its own cmd_*.cpp and registers itself
+// on the app in main.cpp. Callbacks throw on error; main prints the message and exits 1.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace polyloc::cli {
+
+void registerMapInfo(CLI::App& map);      // polyloc map info FILE      (cmd_map_info.cpp)
+void registerMapGenerate(CLI::App& map);  // polyloc map generate ...   (cmd_map_generate.cpp)
+void registerBench(CLI::App& app);        // polyloc bench raycast ...  (cmd_bench.cpp)
+void registerDemo(CLI::App& app);         // polyloc demo ...           (cmd_demo.cpp)
+
+}  // namespace polyloc::cli

@@ -1,0 +1,29 @@
+// polyloc: the command-line front end to the kernels. `polyloc --help` lists the subcommands.
+#include "cli/commands.hpp"
+
+#include <fmt/core.h>
+
+#include <exception>
+
+int main(int argc, char** argv) {
+  CLI::App app{"polyloc: 6-DoF localisation, virtual range scans and people tracking on polygon maps"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "polyloc 0.1.0");
+
+  CLI::App& map = *app.add_subcommand("map", "Polygon maps: generate bundled maps, inspect and validate files");
+  map.require_subcommand(1);
+  polyloc::cli::registerMapInfo(map);
+  polyloc::cli::registerMapGenerate(map);
+  polyloc::cli::registerBench(app);
+  polyloc::cli::registerDemo(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "polyloc: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}
