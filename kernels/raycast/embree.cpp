@@ -90,7 +90,7 @@ EmbreeCaster::EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options) : imp
   Impl& m = *impl_;
   if (mesh.triangles.empty()) throw std::invalid_argument("EmbreeCaster: the map has no triangles");
   m.mesh = mesh;
-  m.device = rtcNewDevice(nullptr);
+  m.device = rtcNewDevice(options.device_config.empty() ? nullptr : options.device_config.c_str());
   if (!m.device) throw std::runtime_error("Embree: cannot create device (error " +
                                           std::to_string(rtcGetDeviceError(nullptr)) + ")");
   m.scene = rtcNewScene(m.device);
@@ -197,6 +197,8 @@ void EmbreeCaster::castScansSingle(std::span<const Pose> poses, const BeamSet& b
                                    float* range) const {
   const Impl& m = *impl_;
   const size_t nb = beams.size();
+  const CastOptions opt = options;
+  const HitBuffers out{range};
   m.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -210,7 +212,10 @@ void EmbreeCaster::castScansSingle(std::span<const Pose> poses, const BeamSet& b
                   beams.range_max, 0xFFFFFFFFu, 0, 0};
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(m.scene, &ctx, &rh);
-        range[p * nb + b] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
+        const unsigned prim = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID
+                                                                       : rh.hit.primID;
+        m.finish(out, p * nb + b, rh.ray.tfar, prim, d.x(), d.y(), d.z(), beams.range_min,
+                 beams.range_max, opt);
       }
     }
   });

@@ -42,10 +42,12 @@ std::vector<Pose> freePoses(const Mesh& mesh, const EmbreeCaster& caster, int co
     uint32_t label;
     caster.castRays({&x, &y, &z0, &up, &up, &down, &t0, &t1, 1}, {&r, nullptr, &label});
     if (!std::isfinite(r) || static_cast<int64_t>(label) != floor || std::abs(z0 - r) > 0.05f) continue;
-    const std::vector<Eigen::Vector3f> body = {{x, y, 0.3f}, {x, y, 0.9f}, {x, y, 1.5f}};
+    // Body points 0.55 m apart from 0.55 m up: 0.5 m clear of everything but the floor.
+    const float zf = z0 - r;
+    const std::vector<Eigen::Vector3f> body = {{x, y, zf + 0.55f}, {x, y, zf + 1.1f}, {x, y, zf + 1.65f}};
     uint8_t ok[3];
-    caster.queryFree(body, 0.6f, ok);
-    if (ok[0] && ok[1] && ok[2]) out.push_back(Pose::fromXYZRPY(x, y, z0 - r, 0, 0, c.yaw()));
+    caster.queryFree(body, 0.5f, ok);
+    if (ok[0] && ok[1] && ok[2]) out.push_back(Pose::fromXYZRPY(x, y, zf, 0, 0, c.yaw()));
   }
   return out;
 }

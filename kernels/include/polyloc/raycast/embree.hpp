@@ -6,6 +6,7 @@
 #include <polyloc/raycast/ray_caster.hpp>
 
 #include <memory>
+#include <string>
 
 namespace polyloc {
 
@@ -13,6 +14,7 @@ struct EmbreeOptions {
   int threads = 0;               // 0 = all cores
   bool robust = true;            // watertight traversal: no rays slip through shared edges
   bool high_quality_bvh = true;  // slower build (SAH with spatial splits), faster rays
+  std::string device_config;     // passed to rtcNewDevice, e.g. "verbose=1" or "isa=avx2"
 };
 
 class EmbreeCaster final : public RayCaster {
@@ -32,7 +34,8 @@ class EmbreeCaster final : public RayCaster {
   int threads() const override;
 
   // The plain reference: one rtcIntersect1 per ray over the same rays as castScans, same
-  // threading. Only ranges. Kept for the benchmark that holds the packet path to account.
+  // threading and options, no windows, only ranges. Kept for the benchmark that holds the
+  // packet path to account.
   void castScansSingle(std::span<const Pose> sensor_poses, const BeamSet& beams, float* range) const;
 
  private:
