@@ -4,10 +4,13 @@ BUILD_DIR ?= build
 JOBS      ?= $(shell nproc)
 
 # Debian 12 packages the build needs; `make deps` installs the missing ones, quietly.
+# node/npm (for the cross-check of our MCAP/CDR against the reference JS readers) are taken
+# from PATH when present, else from Debian.
 APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libeigen3-dev libembree-dev libtbb-dev libassimp-dev libyaml-cpp-dev \
   libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev \
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev \
+  libfastcdr-dev libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev \
   libgtest-dev libgmock-dev libbenchmark-dev
 
 .PHONY: run test deps configure build bench clean
@@ -22,6 +25,7 @@ deps:
 	@missing=""; for p in $(APT_PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
 	done; \
+	command -v npm >/dev/null || missing="$$missing nodejs npm"; \
 	if [ -n "$$missing" ]; then \
 	  echo "installing Debian packages:$$missing"; \
 	  if [ "$$(id -u)" != 0 ]; then echo "run as root (or sudo apt-get install$$missing)" >&2; exit 1; fi; \
