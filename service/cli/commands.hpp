@@ -10,5 +10,7 @@ void registerMapInfo(CLI::App& map);      // polyloc map info FILE      (cmd_map
 void registerMapGenerate(CLI::App& map);  // polyloc map generate ...   (cmd_map_generate.cpp)
 void registerBench(CLI::App& app);        // polyloc bench raycast ...  (cmd_bench.cpp)
 void registerDemo(CLI::App& app);         // polyloc demo ...           (cmd_demo.cpp)
+void registerInfo(CLI::App& app);         // polyloc info FILE          (cmd_info.cpp)
+void registerSimulate(CLI::App& app);     // polyloc simulate ...       (cmd_simulate.cpp)
 
 }  // namespace polyloc::cli

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   polyloc::cli::registerMapGenerate(map);
   polyloc::cli::registerBench(app);
   polyloc::cli::registerDemo(app);
+  polyloc::cli::registerInfo(app);
+  polyloc::cli::registerSimulate(app);
 
   try {
     app.parse(argc, argv);
