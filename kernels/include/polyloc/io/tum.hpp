@@ -35,9 +35,10 @@ std::vector<StampedPose> readTum(const std::string& path);  // whole file, for s
 class TumWriter {
  public:
   explicit TumWriter(const std::string& path);  // throws IoError
-  void write(const StampedPose& p);
+  void write(const StampedPose& p);  // throws IoError naming the file when writing fails
 
  private:
+  std::string path_;
   std::ofstream out_;
 };
 
