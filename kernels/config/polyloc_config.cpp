@@ -1,0 +1,42 @@
+#include <polyloc/config/polyloc_config.hpp>
+
+#include <filesystem>
+
+namespace polyloc {
+
+MapConfig readMapConfig(const ConfigValue& v, const ConfigMap& context) {
+  MapConfig mc;
+  ConfigValue file_value = v;
+  if (v.isMap()) {
+    ConfigMap m = v.asMap();
+    file_value = m.value("file");
+    mc.load.scale = m.getDouble("scale", 1.0, 1e-9, 1e9);
+    if (m.has("up_axis")) {
+      const ConfigValue u = m.value("up_axis");
+      try {
+        mc.load.up_axis = parseUpAxis(u.asString());
+      } catch (const MapError& e) {
+        u.fail(e.what());
+      }
+    }
+    mc.load.merge_vertices = m.getBool("merge_vertices", true);
+    m.finish();
+  }
+  mc.file = context.resolvePath(file_value.asString());
+  if (!std::filesystem::is_regular_file(mc.file))
+    file_value.fail("map file '" + mc.file + "' does not exist");
+  return mc;
+}
+
+PolylocConfig loadConfig(const std::string& path) {
+  ConfigMap m = ConfigMap::load(path);
+  PolylocConfig c;
+  c.file = path;
+  c.map = readMapConfig(m.value("map"), m);
+  c.robot = parseRobot(m.map("robot"));
+  c.rig = readRig(m.value("rig"), m);
+  m.finish();
+  return c;
+}
+
+}  // namespace polyloc

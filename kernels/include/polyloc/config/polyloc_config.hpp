@@ -1,0 +1,38 @@
+// The polyloc configuration file (maps/config/lab.yaml, office.yaml): one YAML file with a
+// section per concept. Today: map, robot, rig; later issues add mcl, vrs, tracking sections
+// (add their parsers to loadConfig, so unknown sections stay errors).
+//
+//   map: ../lab.obj                   # or {file: ..., scale: 1.0, up_axis: z}
+//   robot: {...}                      # polyloc/config/robot.hpp
+//   rig: ../rigs/lisa.yaml            # a preset name, a rig file, or inline (sensors/rig.hpp)
+#pragma once
+
+#include <polyloc/config/robot.hpp>
+#include <polyloc/config/yaml.hpp>
+#include <polyloc/map/load.hpp>
+#include <polyloc/sensors/rig.hpp>
+
+#include <string>
+
+namespace polyloc {
+
+struct MapConfig {
+  std::string file;      // resolved path (relative to the config file's directory when given so)
+  LoadOptions load;      // scale, up_axis, merge_vertices
+};
+
+struct PolylocConfig {
+  std::string file;  // where it was read from
+  MapConfig map;
+  RobotSpec robot;
+  Rig rig;
+};
+
+// Throws ConfigError naming file, line and key (also when the map file does not exist).
+PolylocConfig loadConfig(const std::string& path);
+
+// Sections, for files that embed or override them (scenarios). readMapConfig takes the `map`
+// value (a path or a mapping) and checks that the file exists.
+MapConfig readMapConfig(const ConfigValue& v, const ConfigMap& context);
+
+}  // namespace polyloc

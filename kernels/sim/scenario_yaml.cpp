@@ -1,0 +1,287 @@
+// loadScenario: the scenario YAML (docs/simulation.md). Every key is read through ConfigMap, so
+// unknown keys and bad values are errors naming file, line and key.
+#include <polyloc/sim/scenario.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+namespace polyloc {
+
+namespace {
+
+Eigen::Vector2d point(const ConfigValue& v) {
+  const std::vector<double> p = v.asDoubles(2);
+  return {p[0], p[1]};
+}
+
+Waypoint parseWaypoint(const ConfigValue& v) {
+  Waypoint w;
+  if (v.isSequence()) {
+    const std::vector<ConfigValue> items = v.items();
+    if (items.size() != 2 && items.size() != 3)
+      v.fail("a waypoint is [x, y], [x, y, heading] or {x, y, heading, wait, stop}");
+    w.p = {items[0].asDouble(), items[1].asDouble()};
+    if (items.size() == 3) w.heading = items[2].asAngle();
+    return w;
+  }
+  ConfigMap m = v.asMap();
+  w.p = {m.value("x").asDouble(), m.value("y").asDouble()};
+  if (m.has("heading")) w.heading = m.value("heading").asAngle();
+  w.wait = m.getDouble("wait", 0.0, 0.0, 1e6);
+  w.stop = m.getBool("stop", false);
+  m.finish();
+  return w;
+}
+
+RouteSpec parseRoute(ConfigMap m) {
+  RouteSpec r;
+  const ConfigValue list = m.value("waypoints");
+  for (const ConfigValue& v : list.items()) r.waypoints.push_back(parseWaypoint(v));
+  if (r.waypoints.empty()) list.fail("a route needs at least one waypoint");
+  constexpr double kBig = 1e6;
+  r.max_speed = m.getDouble("max_speed", r.max_speed, 1e-3, 20);
+  r.max_acceleration = m.getDouble("max_acceleration", r.max_acceleration, 1e-3, 20);
+  r.max_lateral_acceleration = m.getDouble("max_lateral_acceleration", r.max_lateral_acceleration, 1e-3, 20);
+  r.max_yaw_rate = m.getAngle("max_yaw_rate", r.max_yaw_rate);
+  r.max_yaw_acceleration = m.getAngle("max_yaw_acceleration", r.max_yaw_acceleration);
+  if (!(r.max_yaw_rate > 0)) m.value("max_yaw_rate").fail("must be positive");
+  if (!(r.max_yaw_acceleration > 0)) m.value("max_yaw_acceleration").fail("must be positive");
+  r.spacing = m.getDouble("spacing", r.spacing, 0.01, kBig);
+  r.start_pause = m.getDouble("start_pause", r.start_pause, 0.0, kBig);
+  if (m.has("heading")) r.heading = m.value("heading").asAngle();
+  m.finish();
+  return r;
+}
+
+FloorSpec parseFloor(ConfigMap m) {
+  FloorSpec f;
+  f.follow = m.getBool("follow", f.follow);
+  f.unevenness = m.getDouble("unevenness", f.unevenness, 0.0, 0.2);
+  f.wavelength = m.getDouble("wavelength", f.wavelength, 0.05, 100.0);
+  f.probe_height = m.getDouble("probe_height", f.probe_height, -1e4, 1e4);
+  if (m.has("labels")) {
+    f.labels.clear();
+    for (const ConfigValue& v : m.value("labels").items()) f.labels.push_back(v.asString());
+  }
+  if (m.has("contact_points")) {
+    const ConfigValue v = m.value("contact_points");
+    for (const ConfigValue& p : v.items()) f.contact_points.push_back(point(p));
+    if (f.contact_points.size() < 3) v.fail("needs at least 3 contact points");
+  }
+  m.finish();
+  return f;
+}
+
+PersonSpec parsePerson(ConfigMap m, size_t index) {
+  PersonSpec p;
+  p.name = m.getString("name", "person" + std::to_string(index + 1));
+  if (m.has("waypoints") == m.has("circle")) m.fail("a person needs either waypoints or circle");
+  if (m.has("waypoints")) {
+    const ConfigValue v = m.value("waypoints");
+    for (const ConfigValue& w : v.items()) p.waypoints.push_back(point(w));
+    if (p.waypoints.empty()) v.fail("needs at least one waypoint");
+  } else {
+    ConfigMap c = m.value("circle").asMap();
+    p.circle = true;
+    const ConfigValue centre = c.value("centre");
+    if (centre.isScalar()) {
+      if (centre.asString() != "robot") centre.fail("expected [x, y] or robot");
+      p.around_robot = true;
+    } else {
+      p.centre = point(centre);
+    }
+    p.radius = c.getDouble("radius", p.radius, 0.1, 1e3);
+    c.finish();
+  }
+  p.loop = m.getBool("loop", p.loop);
+  p.speed = m.getDouble("speed", p.speed, -10.0, 10.0);
+  p.start = m.getDouble("start", p.start, 0.0, 1e9);
+  p.end = m.getDouble("end", p.end, 0.0, std::numeric_limits<double>::max());
+  p.offset = m.getDouble("offset", p.offset, -1e9, 1e9);
+  p.z = m.getDouble("z", p.z, -1e4, 1e4);
+  p.height = m.getDouble("height", p.height, 0.5, 2.5);
+  if (p.end <= p.start) m.fail("end must be after start");
+  m.finish();
+  return p;
+}
+
+ChairMoves parseChairs(ConfigMap m) {
+  ChairMoves c;
+  c.label = m.getString("label", c.label);
+  if (m.has("moves")) {
+    for (const ConfigValue& v : m.value("moves").items()) {
+      ConfigMap mv = v.asMap();
+      ChairMove move;
+      move.where = v.where();
+      move.from = point(mv.value("from"));
+      move.to = point(mv.value("to"));
+      move.rotate = mv.getAngle("rotate", 0.0);
+      mv.finish();
+      c.moves.push_back(move);
+    }
+  }
+  c.random_shift = m.getDouble("random_shift", 0.0, 0.0, 10.0);
+  c.random_rotation = m.getAngle("random_rotation", 0.0);
+  if (m.has("seed")) {
+    const ConfigValue v = m.value("seed");
+    if (v.asInt() < 0) v.fail("must not be negative");
+    c.seed = static_cast<uint64_t>(v.asInt());
+  }
+  m.finish();
+  return c;
+}
+
+void parseSensorNoise(ConfigMap m, SensorNoise& n) {
+  n.sigma = m.getDouble("sigma", n.sigma, 0.0, 10.0);
+  n.sigma_slope = m.getDouble("sigma_slope", n.sigma_slope, 0.0, 1.0);
+  n.sigma_rel = m.getDouble("sigma_rel", n.sigma_rel, 0.0, 1.0);
+  n.bias = m.getDouble("bias", n.bias, -10.0, 10.0);
+  n.dropout = m.getDouble("dropout", n.dropout, 0.0, 1.0);
+  n.max_range = m.getDouble("max_range", n.max_range, 0.0, 1.0);
+  if (m.has("glass")) {
+    const ConfigValue v = m.value("glass");
+    try {
+      n.glass = parseGlassMode(v.asString());
+    } catch (const std::invalid_argument& e) {
+      v.fail(e.what());
+    }
+  }
+  n.reflection_outlier = m.getDouble("reflection_outlier", n.reflection_outlier, 0.0, 1.0);
+  n.reflection_min = m.getDouble("reflection_min", n.reflection_min, 0.0, 1.0);
+  n.reflection_max = m.getDouble("reflection_max", n.reflection_max, 0.0, 1.0);
+  if (n.reflection_min > n.reflection_max) m.fail("reflection_min must not exceed reflection_max");
+  if (m.has("specular_labels")) {
+    n.specular_labels.clear();
+    for (const ConfigValue& v : m.value("specular_labels").items()) n.specular_labels.push_back(v.asString());
+  }
+  n.flying_pixel = m.getDouble("flying_pixel", n.flying_pixel, 0.0, 1.0);
+  n.flying_threshold = m.getDouble("flying_threshold", n.flying_threshold, 1e-4, 100.0);
+  n.amplitude_scale = m.getDouble("amplitude_scale", n.amplitude_scale, 0.0, 1e12);
+  n.amplitude_noise = m.getDouble("amplitude_noise", n.amplitude_noise, 0.0, 10.0);
+  n.amplitude_min = m.getDouble("amplitude_min", n.amplitude_min, 0.0, 1e12);
+  if (m.has("reflectivity")) {
+    const ConfigValue v = m.value("reflectivity");
+    ConfigMap r = v.asMap();
+    for (auto it = v.node().begin(); it != v.node().end(); ++it) {
+      const std::string label = it->first.Scalar();
+      n.reflectivity[label] = r.getDouble(label, 0.5, 0.0, 10.0);
+    }
+  }
+  m.finish();
+}
+
+NoiseSettings parseNoise(ConfigMap m, const Rig& rig) {
+  NoiseSettings s;
+  s.enabled = m.getBool("enabled", s.enabled);
+  if (m.has("glass")) {
+    const ConfigValue v = m.value("glass");
+    try {
+      s.glass = parseGlassMode(v.asString());
+    } catch (const std::invalid_argument& e) {
+      v.fail(e.what());
+    }
+  }
+  s.max_bounces = static_cast<int>(m.getDouble("max_bounces", s.max_bounces, 0, 64));
+  s.sensors = defaultSensorNoise(rig);
+  if (m.has("sensors")) {
+    const ConfigValue v = m.value("sensors");
+    ConfigMap per = v.asMap();
+    // Preset keys first (every sensor of that model), then sensor names (one sensor).
+    for (int pass = 0; pass < 2; ++pass) {
+      for (auto it = v.node().begin(); it != v.node().end(); ++it) {
+        const std::string key = it->first.Scalar();
+        const int by_name = rig.find(key);
+        bool by_preset = false;
+        for (const std::string& p : rig.presets) by_preset |= p == key;
+        if (by_name < 0 && !by_preset)
+          ConfigValue(it->first, std::make_shared<const std::string>(per.file()), per.keyPath(key))
+              .fail("neither a sensor of the rig nor the preset of one");
+        if (pass == 0 && by_name < 0) {
+          for (size_t i = 0; i < rig.size(); ++i)
+            if (rig.presets[i] == key) parseSensorNoise(per.value(key).asMap(), s.sensors[i]);
+        } else if (pass == 1 && by_name >= 0) {
+          parseSensorNoise(per.value(key).asMap(), s.sensors[by_name]);
+        }
+      }
+    }
+    per.finish();
+  }
+  m.finish();
+  return s;
+}
+
+OdometrySettings parseOdometry(ConfigMap m) {
+  OdometrySettings o;
+  o.rate_hz = m.getDouble("rate_hz", o.rate_hz, 0.1, 10000);
+  OdometryNoise& n = o.noise;
+  n.alpha1 = m.getDouble("alpha1", n.alpha1, 0.0, 100.0);
+  n.alpha2 = m.getDouble("alpha2", n.alpha2, 0.0, 100.0);
+  n.alpha3 = m.getDouble("alpha3", n.alpha3, 0.0, 100.0);
+  n.alpha4 = m.getDouble("alpha4", n.alpha4, 0.0, 100.0);
+  n.slip_translation = m.getDouble("slip_translation", n.slip_translation, 0.0, 100.0);
+  n.slip_rotation = m.getDouble("slip_rotation", n.slip_rotation, 0.0, 100.0);
+  m.finish();
+  return o;
+}
+
+// Seconds as written (an integer is exact; a decimal keeps microseconds) to nanoseconds.
+int64_t parseStartTime(const ConfigValue& v) {
+  const std::string s = v.asString();
+  if (s.find_first_of(".eE") == std::string::npos) {
+    const int64_t sec = v.asInt();
+    if (sec < 0 || sec > 9000000000LL) v.fail("must be in [0, 9e9] s");
+    return sec * 1000000000LL;
+  }
+  const double d = v.asDouble();
+  if (d < 0 || d > 9e9) v.fail("must be in [0, 9e9] s");
+  const int64_t sec = static_cast<int64_t>(std::floor(d));
+  return sec * 1000000000LL + std::llround((d - static_cast<double>(sec)) * 1e9);
+}
+
+}  // namespace
+
+std::vector<SensorNoise> defaultSensorNoise(const Rig& rig) {
+  std::vector<SensorNoise> out;
+  for (size_t i = 0; i < rig.size(); ++i) out.push_back(defaultNoise(rig.presets[i], rig.sensors[i].spec));
+  return out;
+}
+
+Scenario loadScenario(const std::string& path) {
+  ConfigMap m = ConfigMap::load(path);
+  Scenario s;
+  s.file = path;
+  if (m.has("config")) {
+    const ConfigValue v = m.value("config");
+    const std::string file = m.resolvePath(v.asString());
+    if (!std::filesystem::is_regular_file(file)) v.fail("config file '" + file + "' does not exist");
+    s.config = loadConfig(file);
+  } else {
+    for (const char* key : {"map", "rig"})
+      if (!m.has(key)) m.fail(std::string("missing key '") + key + "' (or give config: a polyloc configuration file)");
+  }
+  if (m.has("map")) s.config.map = readMapConfig(m.value("map"), m);
+  if (m.has("robot")) s.config.robot = parseRobot(m.value("robot").asMap());
+  if (m.has("rig")) s.config.rig = readRig(m.value("rig"), m);
+  if (m.has("seed")) {
+    const ConfigValue v = m.value("seed");
+    const int64_t seed = v.asInt();
+    if (seed < 0) v.fail("must not be negative");
+    s.seed = static_cast<uint64_t>(seed);
+  }
+  if (m.has("start_time")) s.start_time_ns = parseStartTime(m.value("start_time"));
+  s.duration = m.getDouble("duration", 0.0, 0.0, 1e7);
+  s.route = parseRoute(m.value("route").asMap());
+  s.floor = parseFloor(m.map("floor"));
+  if (m.has("people")) {
+    const std::vector<ConfigValue> items = m.value("people").items();
+    for (size_t i = 0; i < items.size(); ++i) s.people.push_back(parsePerson(items[i].asMap(), i));
+  }
+  s.chairs = parseChairs(m.map("chairs"));
+  s.noise = parseNoise(m.map("noise"), s.config.rig);
+  s.odometry = parseOdometry(m.map("odometry"));
+  m.finish();
+  return s;
+}
+
+}  // namespace polyloc
