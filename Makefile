@@ -15,8 +15,12 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
 
 .PHONY: run test deps configure build bench clean
 
+# A short simulated lab tour: MCAP (ROS 2 messages), ground truth (TUM), PNG of map, path and
+# one frame of every sensor; then the recording is read back and summarised.
 run: build
-	$(BUILD_DIR)/bin/polyloc demo --map maps/lab.obj --out $(BUILD_DIR)/demo.png
+	$(BUILD_DIR)/bin/polyloc simulate --scenario maps/scenarios/lab_tour.yaml --duration 30 \
+	  --out $(BUILD_DIR)/lab_tour.mcap --ground-truth $(BUILD_DIR)/lab_tour.tum --plot $(BUILD_DIR)/lab_tour.png
+	$(BUILD_DIR)/bin/polyloc info $(BUILD_DIR)/lab_tour.mcap
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)

@@ -72,7 +72,8 @@ std::unique_ptr<RecordingReader> openRecording(const std::string& path) {
   if (p.filename() == "metadata.yaml" || ext == ".db3" ||
       magic == std::string_view("SQLite format 3\0", 16))
     return openRos2Bag(path);
-  if (ext == ".log" || ext == ".clf" || ext == ".txt" || ext == ".gz" || looksLikeCarmen(path))
+  // .txt is too common (TUM trajectories, notes) to mean CARMEN by name alone: look inside.
+  if (ext == ".log" || ext == ".clf" || ext == ".gz" || looksLikeCarmen(path))
     return openCarmen(path);
   throw IoError(unreadable);
 }

@@ -40,8 +40,13 @@ TEST(McapMemory, ReadingStaysFlat) {
   const int images = 100;                   // 200 MiB in all
   {
     auto w = createMcap(path, {"zstd", 1 << 20});
-    msg::Image img{{{}, "tof"}, static_cast<uint32_t>(height), static_cast<uint32_t>(width), "32FC1", 0,
-                   static_cast<uint32_t>(width * 4), std::vector<uint8_t>(width * height * 4)};
+    msg::Image img;
+    img.header.frame_id = "tof";
+    img.height = static_cast<uint32_t>(height);
+    img.width = static_cast<uint32_t>(width);
+    img.encoding = "32FC1";
+    img.step = static_cast<uint32_t>(width * 4);
+    img.data.resize(width * height * 4);
     for (int i = 0; i < images; ++i) {
       for (size_t r = 0; r < height; r += 64) img.data[r * width * 4] = static_cast<uint8_t>(i + r);
       img.header.stamp = msg::fromNs(int64_t{i} * 50000000);

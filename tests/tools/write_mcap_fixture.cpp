@@ -111,11 +111,11 @@ std::vector<std::pair<std::string, msg::Message>> round(int k, int64_t t) {
   std::vector<std::pair<std::string, msg::Message>> out;
 
   msg::LaserScan front{header(t, "laser_front"), -2.35619449f, 2.35619449f, 0.00872664626f,
-                       1.7e-5f, 0.04f, 0.05f, 29.5f};
+                       1.7e-5f, 0.04f, 0.05f, 29.5f, {}, {}};
   front.ranges = {1.25f + k, 0.5f, inf, 3.0e-3f, 29.499f, nan, -0.0f};
   out.emplace_back("/scan_front", front);
 
-  msg::LaserScan rear{header(t + 1000, "laser_rear"), 0, 3.14159274f, 1.5707963f, 0, 0.08f, 0.1f, 4.0f};
+  msg::LaserScan rear{header(t + 1000, "laser_rear"), 0, 3.14159274f, 1.5707963f, 0, 0.08f, 0.1f, 4.0f, {}, {}};
   rear.ranges = {2.0f, 2.5f - k};  // 2 ranges, 1 intensity: odd counts need padding after
   rear.intensities = {100.0f * k};
   out.emplace_back("/scan_rear", rear);
