@@ -131,6 +131,7 @@ void registerBench(CLI::App& app) {
   rc.add_option("--seed", args->seed, "Seed of the random poses")->capture_default_str();
   rc.add_flag("--json", args->json, "Print one JSON object on stdout");
   rc.callback([args] { runBenchRaycast(*args); });
+  registerBenchMcl(bench);
 }
 
 }  // namespace polyloc::cli

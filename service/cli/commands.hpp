@@ -12,5 +12,7 @@ void registerBench(CLI::App& app);        // polyloc bench raycast ...  (cmd_ben
 void registerDemo(CLI::App& app);         // polyloc demo ...           (cmd_demo.cpp)
 void registerInfo(CLI::App& app);         // polyloc info FILE          (cmd_info.cpp)
 void registerSimulate(CLI::App& app);     // polyloc simulate ...       (cmd_simulate.cpp)
+void registerLocalize(CLI::App& app);     // polyloc localize ...       (cmd_localize.cpp)
+void registerBenchMcl(CLI::App& bench);   // polyloc bench mcl ...      (cmd_bench_mcl.cpp)
 
 }  // namespace polyloc::cli

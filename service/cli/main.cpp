@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   polyloc::cli::registerDemo(app);
   polyloc::cli::registerInfo(app);
   polyloc::cli::registerSimulate(app);
+  polyloc::cli::registerLocalize(app);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,80 @@
+// The localiser: one particle filter over a polygon map, fed with odometry and range frames of
+// the sensors of one rig, giving a pose estimate with covariance and status. It owns no threads
+// (TBB runs the particle weighting inside the caster's arena) and does no I/O.
+//
+//   Localizer loc(caster, mesh, config.rig, mcl_config);
+//   loc.initGlobal(t0);  // or loc.initPose(pose, cov, t0)
+//   for each message: loc.addOdometry(t, odom_T_base) / loc.addScan(sensor, t, ranges)
+//   MclEstimate e = loc.estimate();
+#pragma once
+
+#include <polyloc/geometry/pose.hpp>
+#include <polyloc/map/mesh.hpp>
+#include <polyloc/mcl/config.hpp>
+#include <polyloc/raycast/ray_caster.hpp>
+#include <polyloc/sensors/rig.hpp>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace polyloc {
+
+enum class MclStatus { Initialising, Tracking, Uncertain, Lost };
+const char* toString(MclStatus s);
+
+struct MclEstimate {
+  int64_t stamp_ns = 0;
+  Pose pose;                                             // map_T_base
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // x y z roll pitch yaw
+  MclStatus status = MclStatus::Initialising;
+  double ess = 0;           // effective sample size of the last weighting
+  size_t particles = 0;
+  uint64_t updates = 0;     // measurement updates so far
+};
+
+// Particles, structure of arrays; orientation as unit quaternion, weights in log space.
+struct ParticleSet {
+  std::vector<double> x, y, z;
+  std::vector<double> qw, qx, qy, qz;
+  std::vector<double> logw;
+  size_t size() const { return x.size(); }
+  Pose pose(size_t i) const;
+};
+
+// Counted rejections and events, for logs and the health channel.
+struct MclCounters {
+  uint64_t odometry = 0, odometry_out_of_order = 0, odometry_gaps = 0;
+  uint64_t scans = 0, scans_rejected = 0;  // wrong size, all invalid, unknown sensor, stale
+  uint64_t updates = 0, resamples = 0, injected = 0;
+};
+
+class Localizer {
+ public:
+  Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config);
+  ~Localizer();
+
+  void initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);
+  void initGlobal(int64_t stamp_ns);  // uniform over free floor space where the robot can stand
+
+  // Cumulative odometry pose (odom_T_base), as nav_msgs/Odometry gives it. Older than the last
+  // one: ignored and counted.
+  void addOdometry(int64_t stamp_ns, const Pose& odom_T_base);
+  // One frame of rig sensor `sensor` (index into the rig): ranges in the sensor's beam order
+  // (BeamSet of its spec); NaN/inf/out of [range_min, range_max] are invalid beams. Returns true
+  // when it triggered a measurement update.
+  bool addScan(size_t sensor, int64_t stamp_ns, std::span<const float> ranges);
+
+  MclEstimate estimate() const;
+  const ParticleSet& particles() const;
+  const MclCounters& counters() const;
+  const MclConfig& config() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace polyloc
