@@ -213,10 +213,11 @@ void checkFaces(const aiScene& scene, const std::string& path) {
 
 UpAxis parseUpAxis(const std::string& text) {
   const std::string t = lower(text);
+  if (t == "auto") return UpAxis::Auto;
   if (t == "z") return UpAxis::Z;
   if (t == "y") return UpAxis::Y;
   if (t == "x") return UpAxis::X;
-  throw MapError(fmt::format("unknown up axis '{}' (use z, y or x)", text));
+  throw MapError(fmt::format("unknown up axis '{}' (use auto, z, y or x)", text));
 }
 
 Mesh loadMesh(const std::string& path, const LoadOptions& options) {
@@ -233,9 +234,13 @@ Mesh loadMesh(const std::string& path, const LoadOptions& options) {
   detail::checkPlyStructure(path);  // assimp's PLY reader hangs or crashes on corrupt files
 
   Assimp::Importer importer;
-  // Coordinates as written: the up axis is options.up_axis for every format. Otherwise the
-  // collada importer turns a Z_UP file (Blender's and ours) into assimp's y up.
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  // Auto: glTF is y up by its spec; for DAE the collada importer turns whatever <up_axis> the
+  // file declares into y up. An explicit axis means coordinates as written, for every format.
+  std::string ext = lower(fs::path(path).extension().string());
+  UpAxis up = options.up_axis;
+  if (up == UpAxis::Auto) up = ext == ".gltf" || ext == ".glb" || ext == ".dae" ? UpAxis::Y : UpAxis::Z;
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION,
+                           options.up_axis != UpAxis::Auto);
   // No normal generation, no winding flips, no pre-transform (we walk the nodes ourselves),
   // no aiProcess_ValidateDataStructure (the walker checks what it uses, and validation rejects
   // harmless files, e.g. an OBJ face with two corners).
@@ -250,7 +255,7 @@ Mesh loadMesh(const std::string& path, const LoadOptions& options) {
   Mesh mesh;
   mesh.source = path;
   Eigen::Affine3d to_map = Eigen::Affine3d::Identity();
-  to_map.linear() = options.scale * upAxisRotation(options.up_axis);
+  to_map.linear() = options.scale * upAxisRotation(up);
   try {
     SceneWalker(*scene, path, mesh).walk(scene->mRootNode, to_map, "", 0);
   } catch (const std::bad_alloc&) {

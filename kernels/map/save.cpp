@@ -23,9 +23,10 @@ struct Format {
 constexpr Format kFormats[] = {{".obj", "obj"},    {".ply", "plyb"}, {".stl", "stlb"},
                                {".gltf", "gltf2"}, {".glb", "glb2"}, {".dae", "collada"}};
 
-// The collada exporter writes the root node's rotation as <up_axis>; this one (z up to y up)
-// makes it write Z_UP, which is true of our data, and no extra root transform.
-aiMatrix4x4 colladaZUpRoot() {
+// Map (z up) to y up: (x, y, z) -> (x, z, -y). As the root of a glTF it makes the file y up,
+// as its spec wants; the collada exporter instead writes it as <up_axis>Z_UP</up_axis> and no
+// root transform, which is also true of our data.
+aiMatrix4x4 zUpToYUpRoot() {
   return aiMatrix4x4(1, 0, 0, 0,   //
                      0, 0, 1, 0,   //
                      0, -1, 0, 0,  //
@@ -107,7 +108,7 @@ void saveMesh(const Mesh& mesh, const std::string& path) {
   // normal generation that the OBJ and STL exporters enforce throws instead of running.
   const unsigned n = static_cast<unsigned>(labels.size());
   scene->mRootNode = new aiNode("polyloc_map");
-  if (ext == ".dae") scene->mRootNode->mTransformation = colladaZUpRoot();
+  if (ext == ".dae" || ext == ".gltf" || ext == ".glb") scene->mRootNode->mTransformation = zUpToYUpRoot();
   scene->mNumMeshes = scene->mNumMaterials = n;
   scene->mMeshes = new aiMesh*[n];
   scene->mMaterials = new aiMaterial*[n];

@@ -15,7 +15,7 @@ namespace {
 struct MapInfoArgs {
   std::string file;
   double scale = 1.0;
-  std::string up_axis = "z";
+  std::string up_axis = "auto";
   bool json = false;
 };
 
@@ -62,7 +62,7 @@ void registerMapInfo(CLI::App& map) {
   cmd->add_option("--scale", args->scale, "Multiply coordinates, e.g. 0.001 for a file in mm")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--up-axis", args->up_axis, "The file's up axis: z, y or x")
+  cmd->add_option("--up-axis", args->up_axis, "The file's up axis: auto (glTF y, DAE as declared, others z), z, y or x")
       ->capture_default_str()
       ->check(CLI::IsMember({"z", "y", "x"}, CLI::ignore_case));
   cmd->add_flag("--json", args->json, "Print one JSON object on stdout");

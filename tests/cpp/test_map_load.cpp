@@ -181,7 +181,9 @@ TEST(MapLoad, GltfNodeTransformsAndMirroring) {
     "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],
     "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
                  {"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})");
-  const Mesh m = loadMesh(path);
+  LoadOptions as_written;
+  as_written.up_axis = UpAxis::Z;
+  const Mesh m = loadMesh(path, as_written);
   ASSERT_EQ(m.numTriangles(), 3u);
   int plain = 0, lifted = 0, mirrored = 0;
   for (size_t t = 0; t < 3; ++t) {
@@ -196,6 +198,15 @@ TEST(MapLoad, GltfNodeTransformsAndMirroring) {
   EXPECT_EQ(lifted, 1);
   EXPECT_EQ(mirrored, 1);
   EXPECT_EQ(m.numVertices(), 7u);  // the plain and mirrored copies share two corners
+
+  // By default a glTF is y up, as its spec says: the node lifted along file +z lands at map -y.
+  const Mesh up = loadMesh(path);
+  LoadOptions yup;
+  yup.up_axis = UpAxis::Y;
+  const Mesh y = loadMesh(path, yup);
+  ASSERT_EQ(up.numVertices(), y.numVertices());
+  for (size_t v = 0; v < up.numVertices(); ++v) EXPECT_TRUE(up.vertices[v].isApprox(y.vertices[v]));
+  EXPECT_FLOAT_EQ(up.bounds().min().y(), -10.f);
 }
 
 TEST(MapLoad, ScaleAndUpAxis) {
@@ -238,6 +249,7 @@ TEST(MapLoad, ScaleAndUpAxis) {
 
 TEST(MapLoad, ParseUpAxis) {
   EXPECT_EQ(parseUpAxis("z"), UpAxis::Z);
+  EXPECT_EQ(parseUpAxis("Auto"), UpAxis::Auto);
   EXPECT_EQ(parseUpAxis("Y"), UpAxis::Y);
   EXPECT_EQ(parseUpAxis("x"), UpAxis::X);
   expectThrowsWith([] { parseUpAxis("w"); }, {"'w'"});
