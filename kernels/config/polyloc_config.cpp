@@ -1,4 +1,5 @@
 #include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/mcl/config_yaml.hpp>
 
 #include <filesystem>
 
@@ -35,6 +36,7 @@ PolylocConfig loadConfig(const std::string& path) {
   c.map = readMapConfig(m.value("map"), m);
   c.robot = parseRobot(m.map("robot"));
   c.rig = readRig(m.value("rig"), m);
+  if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"));
   m.finish();
   return c;
 }

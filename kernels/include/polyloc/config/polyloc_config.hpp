@@ -5,11 +5,13 @@
 //   map: ../lab.obj                   # or {file: ..., scale: 1.0, up_axis: z}
 //   robot: {...}                      # polyloc/config/robot.hpp
 //   rig: ../rigs/lisa.yaml            # a preset name, a rig file, or inline (sensors/rig.hpp)
+//   mcl: {...}                        # polyloc/mcl/config_yaml.hpp, docs/localization.md
 #pragma once
 
 #include <polyloc/config/robot.hpp>
 #include <polyloc/config/yaml.hpp>
 #include <polyloc/map/load.hpp>
+#include <polyloc/mcl/config.hpp>
 #include <polyloc/sensors/rig.hpp>
 
 #include <string>
@@ -26,6 +28,7 @@ struct PolylocConfig {
   MapConfig map;
   RobotSpec robot;
   Rig rig;
+  MclConfig mcl;  // `mcl:` section (polyloc/mcl/config_yaml.hpp); defaults when absent
 };
 
 // Throws ConfigError naming file, line and key (also when the map file does not exist).

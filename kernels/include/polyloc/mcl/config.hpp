@@ -13,6 +13,7 @@ struct MotionNoise {
   double alpha1 = 0.05, alpha2 = 0.02, alpha3 = 0.05, alpha4 = 0.02;
   // 6-DoF diffusion per metre travelled (dof: 6): z (m), roll and pitch (rad).
   double z_per_m = 0.01, roll_pitch_per_m = 0.005;
+  bool omni = false;  // omni drive: x, y, yaw noise independent; else differential (rot-trans-rot)
 };
 
 struct BeamModel {
@@ -21,6 +22,10 @@ struct BeamModel {
   double lambda_short = 1.0;   // 1/m
   double window_sigmas = 4.0;  // rays only look at measured range +- this many sigma_hit ...
   double window_min = 0.3;     // ... but at least +- this (m), so a short hit is still seen
+  // Multiplies a scan's summed log-likelihood. Beams are not independent (map error, people):
+  // < 1 tempers the product so that a spread cloud (global init, symmetric places) keeps its
+  // modes instead of collapsing onto the luckiest particle.
+  double log_scale = 1.0;
 };
 
 struct MclConfig {
@@ -40,6 +45,9 @@ struct MclConfig {
   double update_min_distance = 0.05;  // m travelled before the next update ...
   double update_min_angle = 0.05;     // ... or rad turned
   double robot_radius = 0.25;       // particles closer than this to a surface get zero weight
+  double body_height = 0.4;         // m above base_link where the clearance above is checked
+  double uncertain_xy = 0.3;        // m: position std above this (or a weak dominant cluster)
+  double uncertain_yaw = 0.2;       // rad   ... gives status Uncertain
   MotionNoise motion;
   BeamModel beam;
   uint64_t seed = 1;

@@ -1,0 +1,14 @@
+// The `mcl:` section of the polyloc config (maps/config/*.yaml) into MclConfig. Every key is a
+// field of MclConfig under the same name; nested `motion:` and `beam:` mappings; angles in
+// degrees (or "x rad"). docs/localization.md lists them with defaults.
+#pragma once
+
+#include <polyloc/config/yaml.hpp>
+#include <polyloc/mcl/config.hpp>
+
+namespace polyloc {
+
+// Throws ConfigError naming file, line and key (unknown keys, bad values).
+MclConfig parseMclConfig(ConfigMap m);
+
+}  // namespace polyloc

@@ -1,0 +1,80 @@
+#include <polyloc/mcl/beam_model.hpp>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace polyloc {
+
+std::vector<size_t> BeamWeigher::selectBeams(const BeamSet& beams, std::span<const float> ranges,
+                                             size_t max_beams) {
+  std::vector<size_t> valid;
+  for (size_t b = 0; b < ranges.size() && b < beams.size(); ++b) {
+    const float r = ranges[b];
+    // A max-range return says "nothing within range_max" but a window cannot check that cheaply.
+    if (std::isfinite(r) && r >= beams.range_min && r < beams.range_max) valid.push_back(b);
+  }
+  if (max_beams == 0 || valid.size() <= max_beams) return valid;
+  // Evenly spread over the valid beams: the whole field of view keeps its say.
+  std::vector<size_t> out(max_beams);
+  for (size_t i = 0; i < max_beams; ++i) out[i] = valid[(i * valid.size()) / max_beams];
+  return out;
+}
+
+double BeamWeigher::logLikelihood(double z, double e, double range_max, const BeamModel& m) {
+  const double p_rand = m.z_rand / range_max;
+  double p_short = 0;
+  double p_hit = 0;
+  if (std::isfinite(e)) {
+    const double d = (z - e) / m.sigma_hit;
+    p_hit = m.z_hit * std::exp(-0.5 * d * d) / (m.sigma_hit * 2.5066282746310002);
+    if (z < e) p_short = m.z_short * m.lambda_short * std::exp(-m.lambda_short * z) / (1.0 - std::exp(-m.lambda_short * e));
+  } else {
+    // Expected outside the window: if beyond, z was a short (unexpected obstacle); if before,
+    // only a random return. Which one is unknown; the short density is the generous choice.
+    p_short = m.z_short * m.lambda_short * std::exp(-m.lambda_short * z);
+  }
+  return std::log(p_hit + p_short + p_rand);
+}
+
+size_t BeamWeigher::weigh(const RayCaster& caster, const ParticleSet& ps, const Sensor& sensor,
+                          const BeamSet& all, std::span<const float> ranges, const MclConfig& cfg,
+                          std::span<double> loglik) {
+  const std::vector<size_t> sel = selectBeams(all, ranges, cfg.beams_per_scan);
+  const size_t B = sel.size(), P = ps.size();
+  if (B == 0 || P == 0) return 0;
+  const BeamModel& m = cfg.beam;
+  const double w = std::max(m.window_sigmas * m.sigma_hit, m.window_min);
+  beams_.dx.resize(B), beams_.dy.resize(B), beams_.dz.resize(B);
+  beams_.range_min = all.range_min, beams_.range_max = all.range_max;
+  measured_.resize(B), tmin_.resize(B), tmax_.resize(B);
+  for (size_t i = 0; i < B; ++i) {
+    const size_t b = sel[i];
+    beams_.dx[i] = all.dx[b], beams_.dy[i] = all.dy[b], beams_.dz[i] = all.dz[b];
+    measured_[i] = ranges[b];
+    tmin_[i] = std::max<float>(all.range_min, ranges[b] - w);
+    tmax_[i] = std::min<float>(all.range_max, ranges[b] + w);
+  }
+  poses_.resize(P);
+  hits_.resize(P * B);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 512), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p < r.end(); ++p) poses_[p] = sensor.worldPose(ps.pose(p));
+  });
+  HitBuffers out;
+  out.range = hits_.data();
+  caster.castScans(poses_, beams_, out, ScanWindow{tmin_.data(), tmax_.data()});
+  const double rmax = all.range_max;
+  // Per particle, a sequential sum over its beams: the same for any split over threads.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p < r.end(); ++p) {
+      const float* h = hits_.data() + p * B;
+      double s = 0;
+      for (size_t i = 0; i < B; ++i) s += logLikelihood(measured_[i], h[i], rmax, m);
+      loglik[p] += m.log_scale * s;
+    }
+  });
+  return B;
+}
+
+}  // namespace polyloc

@@ -1,0 +1,106 @@
+#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/motion_model.hpp>
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+
+namespace polyloc {
+
+namespace {
+constexpr uint64_t kGlobalStream = 0x474C4FULL << 40;
+
+// Orientation on a floor with normal n, keeping the heading `yaw`.
+Eigen::Quaterniond onFloor(const Eigen::Vector3d& n, double yaw) {
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), n) *
+         Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+}
+}  // namespace
+
+FloorModel::FloorModel(const RayCaster& caster, const Mesh& map, const MclConfig& config)
+    : caster_(caster), config_(config), bounds_(map.bounds()) {
+  floor_label_.assign(map.label_names.size(), 0);
+  bool any = false;
+  for (size_t l = 0; l < map.label_names.size(); ++l) {
+    const auto& name = map.label_names[l];
+    if (name.find("floor") != std::string::npos || name.find("ramp") != std::string::npos) floor_label_[l] = 1, any = true;
+  }
+  if (!any) floor_label_.assign(map.label_names.size(), 1);  // unlabelled map: any surface
+}
+
+bool FloorModel::isFloorLabel(uint32_t l) const { return l < floor_label_.size() && floor_label_[l]; }
+
+void FloorModel::snapToFloor(ParticleSet& s, double step_up, double max_drop) const {
+  const size_t n = s.size();
+  if (n == 0) return;
+  std::vector<float> ox(n), oy(n), oz(n), dx(n, 0.f), dy(n, 0.f), dz(n, -1.f), tmax(n, float(step_up + max_drop));
+  for (size_t i = 0; i < n; ++i) ox[i] = float(s.x[i]), oy[i] = float(s.y[i]), oz[i] = float(s.z[i] + step_up);
+  std::vector<float> r(n), nx(n), ny(n), nz(n);
+  RayBatch rays{ox.data(), oy.data(), oz.data(), dx.data(), dy.data(), dz.data(), nullptr, tmax.data(), n};
+  HitBuffers out;
+  out.range = r.data(), out.nx = nx.data(), out.ny = ny.data(), out.nz = nz.data();
+  caster_.castRays(rays, out);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& b) {
+    for (size_t i = b.begin(); i < b.end(); ++i) {
+      if (!std::isfinite(r[i]) || r[i] <= 0.f || nz[i] < 0.5f) continue;  // no floor, in solid, a wall
+      const Pose p = s.pose(i);
+      setParticle(s, i, Pose(onFloor(Eigen::Vector3d(nx[i], ny[i], nz[i]).normalized(), p.yaw()),
+                             Eigen::Vector3d(p.x(), p.y(), double(oz[i]) - r[i])));
+    }
+  });
+}
+
+size_t FloorModel::zeroBlocked(ParticleSet& s) const {
+  const size_t n = s.size();
+  std::vector<Eigen::Vector3f> pts(n);
+  for (size_t i = 0; i < n; ++i) pts[i] = (s.pose(i) * Eigen::Vector3d(0, 0, config_.body_height)).cast<float>();
+  std::vector<uint8_t> free(n);
+  caster_.queryFree(pts, float(config_.robot_radius), free.data());
+  size_t blocked = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (!free[i]) s.logw[i] = -std::numeric_limits<double>::infinity(), ++blocked;
+  return blocked;
+}
+
+std::vector<Pose> FloorModel::sampleFree(size_t n, const CounterRng& rng, uint64_t stream) const {
+  std::vector<Pose> out;
+  if (bounds_.isEmpty() || n == 0) return out;
+  const size_t batch = std::max<size_t>(4 * n, 1024);
+  const auto lo = bounds_.min(), hi = bounds_.max();
+  std::vector<float> ox(batch), oy(batch), oz(batch), dx(batch, 0.f), dy(batch, 0.f), dz(batch, -1.f);
+  std::vector<float> r(batch), nx(batch), ny(batch), nz(batch), yaw(batch);
+  std::vector<uint32_t> label(batch);
+  std::vector<Eigen::Vector3f> body(batch);
+  std::vector<uint8_t> free(batch);
+  const float cos_max_tilt = float(std::cos(deg2rad(15.0)));
+  // Rounds of candidates, accepted in index order: the same poses for any thread count.
+  for (uint64_t round = 0; round < 50 && out.size() < n; ++round) {
+    for (size_t c = 0; c < batch; ++c) {
+      const uint64_t idx = round * batch + c;
+      ox[c] = float(rng.uniform(lo.x(), hi.x(), kGlobalStream + stream, idx, 0));
+      oy[c] = float(rng.uniform(lo.y(), hi.y(), kGlobalStream + stream, idx, 1));
+      oz[c] = float(rng.uniform(lo.z(), hi.z(), kGlobalStream + stream, idx, 2));
+      yaw[c] = float(rng.uniform(-M_PI, M_PI, kGlobalStream + stream, idx, 3));
+    }
+    RayBatch rays{ox.data(), oy.data(), oz.data(), dx.data(), dy.data(), dz.data(), nullptr, nullptr, batch};
+    HitBuffers hb;
+    hb.range = r.data(), hb.nx = nx.data(), hb.ny = ny.data(), hb.nz = nz.data(), hb.label = label.data();
+    caster_.castRays(rays, hb);
+    for (size_t c = 0; c < batch; ++c) {
+      const bool floor = std::isfinite(r[c]) && r[c] > 1e-4f && nz[c] >= cos_max_tilt && isFloorLabel(label[c]);
+      body[c] = floor ? Eigen::Vector3f(ox[c], oy[c], oz[c] - r[c] + float(config_.body_height))
+                      : Eigen::Vector3f(lo.x() - 1e3f, lo.y() - 1e3f, lo.z() - 1e3f);  // far outside: skipped below
+      if (!floor) r[c] = -1.f;
+    }
+    caster_.queryFree(body, float(config_.robot_radius), free.data());
+    for (size_t c = 0; c < batch && out.size() < n; ++c) {
+      if (r[c] < 0.f || !free[c]) continue;
+      const Eigen::Vector3d t(ox[c], oy[c], double(oz[c]) - r[c]);
+      out.emplace_back(onFloor(Eigen::Vector3d(nx[c], ny[c], nz[c]).normalized(), yaw[c]), t);
+    }
+  }
+  return out;
+}
+
+}  // namespace polyloc

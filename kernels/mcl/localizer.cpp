@@ -1,0 +1,257 @@
+// Composes the filter: motion model on accumulated odometry, beam model per scan, blocked
+// particles zeroed, ESS-triggered systematic resampling with KLD particle count and augmented-MCL
+// injection, dominant-cluster estimate.
+#include <polyloc/mcl/beam_model.hpp>
+#include <polyloc/mcl/estimate.hpp>
+#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/localizer.hpp>
+#include <polyloc/mcl/motion_model.hpp>
+#include <polyloc/mcl/resample.hpp>
+
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace polyloc {
+
+namespace {
+constexpr uint64_t kResampleStream = 0x524553ULL << 40;
+constexpr uint64_t kInjectStream = 0x494E4AULL << 40;
+constexpr uint64_t kInitStream = 0x494E49ULL << 40;
+constexpr int64_t kOdometryGapNs = 1'000'000'000;
+
+bool finitePose(const Pose& p) {
+  return p.translation().allFinite() && p.rotation().coeffs().allFinite() && p.rotation().norm() > 0.5;
+}
+}  // namespace
+
+const char* toString(MclStatus s) {
+  switch (s) {
+    case MclStatus::Initialising: return "initialising";
+    case MclStatus::Tracking: return "tracking";
+    case MclStatus::Uncertain: return "uncertain";
+    case MclStatus::Lost: return "lost";
+  }
+  return "?";
+}
+
+Pose ParticleSet::pose(size_t i) const {
+  return Pose(Eigen::Quaterniond(qw[i], qx[i], qy[i], qz[i]), Eigen::Vector3d(x[i], y[i], z[i]));
+}
+
+struct Localizer::Impl {
+  Impl(const RayCaster& c, const Mesh& m, const Rig& r, const MclConfig& cfg)
+      : caster(c), rig(r), config(cfg), floor(c, m, config), rng(cfg.seed) {
+    for (const auto& s : rig.sensors) beams.push_back(s.beams());
+    pending.assign(rig.size(), 0);
+    last_scan.assign(rig.size(), std::numeric_limits<int64_t>::min());
+    if (config.threads > 0) arena.emplace(config.threads);
+  }
+
+  template <class F>
+  void run(F&& f) {
+    if (arena) arena->execute(f);
+    else f();
+  }
+
+  void reset(int64_t stamp) {
+    est = MclEstimate{};
+    est.stamp_ns = stamp;
+    est.particles = ps.size();
+    std::fill(pending.begin(), pending.end(), 0);
+    updated_once = false;
+    w_slow = w_fast = 0;
+    odom_at_update = odom_at_predict = last_odom;
+    initialised = true;
+    if (config.dof == 3) floor.snapToFloor(ps);
+    refreshEstimate(MclStatus::Initialising);
+  }
+
+  void refreshEstimate(std::optional<MclStatus> forced) {
+    const double cell = std::max(2 * config.kld_bin_xy, 0.25);
+    ClusterEstimate c = dominantCluster(ps, cell);
+    est.pose = c.pose;
+    est.covariance = c.covariance;
+    est.particles = ps.size();
+    est.status = ps.size() == 0 ? MclStatus::Lost : forced ? *forced : statusOf(c, config);
+  }
+
+  void resample() {
+    const size_t N = ps.size();
+    const uint64_t stream = kResampleStream + 2 * step;
+    std::vector<size_t> idx = systematicResample(ps.logw, N, rng, stream);
+    if (config.kld) {
+      const size_t n = kldParticleCount(occupiedBins(ps, idx, config), config);
+      if (n != N) idx = systematicResample(ps.logw, n, rng, stream + 1);
+    }
+    ps = gatherParticles(ps, idx);
+    ++counters.resamples;
+    // Augmented MCL: inject uniform free-space particles when the short-term likelihood falls
+    // below the long-term one (kidnapping, divergence).
+    const double p_inject = injectProbability();
+    if (p_inject > 0) {
+      std::vector<size_t> slots;
+      for (size_t j = 0; j < ps.size(); ++j)
+        if (rng.uniform(kInjectStream + step, j, 0) < p_inject) slots.push_back(j);
+      const std::vector<Pose> fresh = floor.sampleFree(slots.size(), rng, kInjectStream + step);
+      for (size_t k = 0; k < fresh.size(); ++k) setParticle(ps, slots[k], fresh[k]);
+      counters.injected += fresh.size();
+    }
+  }
+
+  double injectProbability() const {
+    if (config.alpha_slow <= 0 || config.alpha_fast <= 0 || w_slow <= 0) return 0.0;
+    return std::clamp(1.0 - w_fast / w_slow, 0.0, 0.5);
+  }
+
+  bool update(size_t sensor, std::span<const float> ranges) {
+    // Motion since the last prediction, applied lazily: the noise then scales with the whole
+    // step, not with the number of odometry messages.
+    const Pose delta = odom_at_predict.inverse() * last_odom;
+    ++step;
+    if (!delta.isApprox(Pose(), 1e-12)) applyMotion(ps, delta, config.motion, config.dof, rng, step);
+    odom_at_predict = last_odom;
+    if (config.dof == 3) floor.snapToFloor(ps);
+    std::vector<double> loglik(ps.size(), 0.0);
+    const size_t used = weigher.weigh(caster, ps, rig.sensors[sensor], beams[sensor], ranges, config, loglik);
+    if (used == 0) return false;
+    // Mean per-beam likelihood (geometric) of the particles: for augmented MCL and "lost".
+    // Untempered (log_scale divided out): tempering must not hide a kidnapping.
+    double w_avg = 0, best = -std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < ps.size(); ++i) {
+      const double l = loglik[i] / (double(used) * config.beam.log_scale);
+      w_avg += std::exp(l), best = std::max(best, l);
+      ps.logw[i] += loglik[i];
+    }
+    w_avg /= double(std::max<size_t>(ps.size(), 1));
+    if (w_slow == 0) w_slow = w_fast = w_avg;
+    w_slow += config.alpha_slow * (w_avg - w_slow);
+    w_fast += config.alpha_fast * (w_avg - w_fast);
+
+    counters.particles_blocked += floor.zeroBlocked(ps);
+    const bool any = normalizeLogWeights(ps.logw);
+    if (!any) ++counters.weights_collapsed;
+    est.ess = effectiveSampleSize(ps.logw);
+    // No particle explains the scan better than the non-hit parts of the mixture: lost.
+    const auto& m = config.beam;
+    const double floor_density = m.z_short * m.lambda_short + m.z_rand / beams[sensor].range_max;
+    const bool lost = !any || best < std::log(floor_density);
+    refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
+    // Also resample when injection is due: a lost cloud is flat (high ESS) and would never
+    // resample, so it would never get fresh particles.
+    if (est.ess < config.resample_ess * double(ps.size()) || injectProbability() > 0.05) resample();
+    ++counters.updates;
+    est.updates = counters.updates;
+    est.particles = ps.size();
+    return true;
+  }
+
+  const RayCaster& caster;
+  Rig rig;
+  MclConfig config;
+  FloorModel floor;
+  CounterRng rng;
+  std::vector<BeamSet> beams;
+  BeamWeigher weigher;
+  std::optional<tbb::task_arena> arena;
+  ParticleSet ps;
+  MclCounters counters;
+  MclEstimate est;
+  bool initialised = false, updated_once = false, have_odom = false;
+  int64_t last_odom_t = 0;
+  Pose last_odom, odom_at_predict, odom_at_update;
+  std::vector<uint8_t> pending;
+  std::vector<int64_t> last_scan;
+  uint64_t step = 0;
+  double w_slow = 0, w_fast = 0;
+};
+
+Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)
+    : impl_(std::make_unique<Impl>(caster, map, rig, config)) {}
+Localizer::~Localizer() = default;
+
+void Localizer::initPose(const Pose& pose, const Eigen::Matrix<double, 6, 6>& cov, int64_t stamp) {
+  Impl& d = *impl_;
+  d.run([&] {
+    // Draw from N(pose, cov) in (x y z roll pitch yaw); a covariance that is not positive
+    // definite falls back to its diagonal.
+    Eigen::Matrix<double, 6, 6> L = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(cov);
+    if (cov.allFinite() && llt.info() == Eigen::Success) L = llt.matrixL();
+    else
+      for (int k = 0; k < 6; ++k) L(k, k) = std::isfinite(cov(k, k)) ? std::sqrt(std::abs(cov(k, k))) : 0.0;
+    const Pose p0 = finitePose(pose) ? pose : Pose();
+    const size_t n = std::max<size_t>(d.config.particles, 1);
+    resizeParticles(d.ps, n);
+    for (size_t i = 0; i < n; ++i) {
+      Eigen::Matrix<double, 6, 1> g;
+      for (int k = 0; k < 6; ++k) g[k] = d.rng.normal(kInitStream + uint64_t(stamp), i, k);
+      const Eigen::Matrix<double, 6, 1> e = L * g;
+      setParticle(d.ps, i, Pose::fromXYZRPY(p0.x() + e[0], p0.y() + e[1], p0.z() + e[2], p0.roll() + e[3],
+                                            p0.pitch() + e[4], p0.yaw() + e[5]));
+      d.ps.logw[i] = -std::log(double(n));
+    }
+    d.reset(stamp);
+  });
+}
+
+void Localizer::initGlobal(int64_t stamp) {
+  Impl& d = *impl_;
+  d.run([&] {
+    const std::vector<Pose> poses = d.floor.sampleFree(d.config.global_particles, d.rng, kInitStream + uint64_t(stamp));
+    resizeParticles(d.ps, poses.size());
+    for (size_t i = 0; i < poses.size(); ++i) setParticle(d.ps, i, poses[i]), d.ps.logw[i] = -std::log(double(poses.size()));
+    d.reset(stamp);
+  });
+}
+
+void Localizer::addOdometry(int64_t stamp, const Pose& odom_T_base) {
+  Impl& d = *impl_;
+  ++d.counters.odometry;
+  if (!finitePose(odom_T_base)) return void(++d.counters.odometry_invalid);
+  if (d.have_odom && stamp < d.last_odom_t) return void(++d.counters.odometry_out_of_order);
+  if (!d.have_odom) {
+    // The first message is the reference: no motion before it.
+    d.have_odom = true;
+    d.odom_at_predict = d.odom_at_update = odom_T_base;
+  } else if (stamp - d.last_odom_t > kOdometryGapNs) {
+    ++d.counters.odometry_gaps;  // still used: the delta spans the gap
+  }
+  d.last_odom_t = stamp;
+  d.last_odom = odom_T_base;
+}
+
+bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ranges) {
+  Impl& d = *impl_;
+  ++d.counters.scans;
+  if (!d.initialised || sensor >= d.rig.size() || ranges.size() != d.beams[sensor].size() ||
+      stamp < d.last_scan[sensor] || d.ps.size() == 0)
+    return ++d.counters.scans_rejected, false;
+  if (BeamWeigher::selectBeams(d.beams[sensor], ranges, 1).empty()) return ++d.counters.scans_rejected, false;
+  d.last_scan[sensor] = stamp;
+  // Update after enough motion (or the first scan); every sensor then contributes one scan.
+  const Pose moved = d.odom_at_update.inverse() * d.last_odom;
+  const double turned = std::abs(Eigen::AngleAxisd(moved.rotation()).angle());
+  if (!d.updated_once || moved.translation().norm() >= d.config.update_min_distance ||
+      turned >= d.config.update_min_angle) {
+    std::fill(d.pending.begin(), d.pending.end(), 1);
+    d.odom_at_update = d.last_odom;
+    d.updated_once = true;
+  }
+  if (!d.pending[sensor]) return false;
+  bool done = false;
+  d.run([&] { done = d.update(sensor, ranges); });
+  d.pending[sensor] = 0;
+  d.est.stamp_ns = stamp;
+  return done;
+}
+
+MclEstimate Localizer::estimate() const { return impl_->est; }
+const ParticleSet& Localizer::particles() const { return impl_->ps; }
+const MclCounters& Localizer::counters() const { return impl_->counters; }
+const MclConfig& Localizer::config() const { return impl_->config; }
+
+}  // namespace polyloc

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# polyloc localize, as a user types it: 20 s of the office patrol simulated, localised from the
+# first ground-truth pose with --json (keys, a loose accuracy bound: the targets are measured in
+# docs/benchmarks.md), the TUM, CSV and PNG outputs; a CARMEN log with bad scans (rejected,
+# counted, no crash), also on a rig without scanners; a missing input (exit 1 naming the path).
+# Skips while the Localizer is not implemented.
+set -euo pipefail
+polyloc=$1 src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$src"
+"$polyloc" simulate --scenario maps/scenarios/office_patrol.yaml --duration 20 --out "$tmp/run.mcap" >/dev/null
+if ! out=$("$polyloc" localize --config maps/config/office.yaml --map maps/office.obj --input "$tmp/run.mcap" \
+    --out "$tmp/traj.tum" --plot "$tmp/loc.png" --csv "$tmp/frames.csv" --json 2>"$tmp/err"); then
+  if grep -q "not implemented" "$tmp/err"; then
+    echo "SKIP: $(cat "$tmp/err")"
+    exit 0
+  fi
+  cat "$tmp/err" >&2
+  exit 1
+fi
+echo "$out"
+grep -q "first ground-truth pose" "$tmp/err"
+python3 - "$out" "$tmp/traj.tum" "$tmp/frames.csv" <<'PY'
+import json, math, sys
+j = json.loads(sys.argv[1])
+for key in ("frames", "updates", "updates_per_s", "wall_s", "ate_rmse_m", "p95_pos_err_m", "yaw_rmse_deg",
+            "p95_yaw_err_deg", "z_rmse_m", "roll_pitch_rmse_deg", "converged_after_s", "after_convergence",
+            "counters"):
+    assert key in j, key
+assert j["init"] == "ground_truth", j["init"]
+assert j["updates"] > 10 and j["frames"] == j["updates"], (j["updates"], j["frames"])
+assert j["updates_per_s"] > 0 and j["wall_s"] > 0
+assert math.isfinite(j["ate_rmse_m"]) and j["ate_rmse_m"] < 0.3, j["ate_rmse_m"]
+assert j["p95_yaw_err_deg"] < 10, j["p95_yaw_err_deg"]
+assert j["converged_after_s"] is not None and j["converged_after_s"] < 5, j["converged_after_s"]
+assert j["counters"]["scans_wrong_size"] == 0 and j["counters"]["scans_unknown_sensor"] == 0, j["counters"]
+tum = [l for l in open(sys.argv[2]) if l.strip() and not l.startswith("#")]
+assert len(tum) == j["frames"], (len(tum), j["frames"])
+csv = open(sys.argv[3]).read().splitlines()
+assert csv[0].startswith("stamp_ns,x,y,z,") and "pos_err_m" in csv[0], csv[0]
+assert len(csv) == 1 + j["evaluated_frames"]
+PY
+[ "$(head -c 8 "$tmp/loc.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]
+# CARMEN: FLASER goes to the taser's first planar scanner, an LMS200 with 361 beams; FLASER
+# with 3 ranges is rejected, counted and warned about once; the run ends normally.
+{
+  for i in 0 1 2 3 4; do
+    echo "ODOM 0.$i 0 0 0.1 0 0 100$i.0 host 0"
+    echo "FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 100$i.5 host 0"
+  done
+} >"$tmp/run.log"
+out=$("$polyloc" localize --config maps/config/office.yaml --input "$tmp/run.log" --init 1,1.5,0,90 --json 2>"$tmp/err")
+python3 -c 'import json,sys; j=json.loads(sys.argv[1]); c=j["counters"]; assert c["scans_wrong_size"] == 5 and c["odometry"] == 5, c; assert "ate_rmse_m" not in j' "$out"
+grep -q "/front_laser: 3 ranges, sensor 'lms_front' has 361 beams" "$tmp/err"
+[ "$(grep -c 'warning: /front_laser' "$tmp/err")" = 1 ]  # warned once
+# A rig without planar scanners: the CARMEN laser has no sensor; warned once, counted, no crash.
+cat >"$tmp/cam.yaml" <<YAML
+map: $src/maps/office.obj
+robot: {footprint: [[0.3, 0.25], [-0.3, 0.25], [-0.3, -0.25], [0.3, -0.25]], height: 1.2, kinematics: differential}
+rig: {name: cam_only, sensors: [{name: tof, preset: pmd_o3d100, mount: {x: 0.3, y: 0, z: 0.5, roll: 0, pitch: 0, yaw: 0}}]}
+YAML
+out=$("$polyloc" localize --config "$tmp/cam.yaml" --input "$tmp/run.log" --init 1,1.5,0,90 --json 2>"$tmp/err")
+python3 -c 'import json,sys; c=json.loads(sys.argv[1])["counters"]; assert c["scans_unknown_sensor"] == 5, c' "$out"
+[ "$(grep -c "/front_laser: no sensor of rig 'cam_only'" "$tmp/err")" = 1 ]
+# A missing input: exit 1, the message names the path.
+rc=0
+"$polyloc" localize --config maps/config/office.yaml --input "$tmp/missing.mcap" --out "$tmp/x.tum" 2>"$tmp/err" || rc=$?
+[ "$rc" = 1 ] || { echo "exit $rc for a missing input" >&2; exit 1; }
+grep -q "$tmp/missing.mcap" "$tmp/err"
+echo OK

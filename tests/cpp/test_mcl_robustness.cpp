@@ -1,0 +1,131 @@
+// Bad and degenerate input: each handled without a crash, counted, with a defined status.
+#include "mcl_fixtures.hpp"
+
+#include <polyloc/mcl/beam_model.hpp>
+#include <polyloc/mcl/resample.hpp>
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+using namespace polyloc;
+using namespace polyloc::test;
+
+namespace {
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct MclRobust : ::testing::Test {
+  Mesh mesh = asymmetricRoom();
+  EmbreeCaster caster{mesh};
+  Rig rig = scannerRig();
+  MclConfig cfg = [] {
+    MclConfig c;
+    c.particles = 500;
+    return c;
+  }();
+  Localizer loc{caster, mesh, rig, cfg};
+  Pose truth = Pose::planar(0.5, 0.5, 0.3);
+  std::vector<float> scan(uint64_t step = 0) { return simulateScan(caster, rig.sensors[0], truth, 0.01, step); }
+};
+}  // namespace
+
+TEST_F(MclRobust, ScanBeforeInitIsRejected) {
+  EXPECT_FALSE(loc.addScan(0, 0, scan()));
+  EXPECT_EQ(loc.counters().scans_rejected, 1u);
+  EXPECT_EQ(loc.estimate().status, MclStatus::Initialising);
+}
+
+TEST_F(MclRobust, AllMaxRangeAndAllNaNScansAreRejected) {
+  loc.initPose(truth, planarCov(0.1, 0.05), 0);
+  const size_t n = rig.sensors[0].beams().size();
+  EXPECT_FALSE(loc.addScan(0, 1, std::vector<float>(n, float(rig.sensors[0].beams().range_max))));
+  EXPECT_FALSE(loc.addScan(0, 2, std::vector<float>(n, kInf)));
+  EXPECT_FALSE(loc.addScan(0, 3, std::vector<float>(n, kNaN)));
+  EXPECT_FALSE(loc.addScan(0, 4, std::vector<float>(n, -1.f)));
+  EXPECT_EQ(loc.counters().scans_rejected, 4u);
+  EXPECT_EQ(loc.counters().updates, 0u);
+  EXPECT_EQ(loc.estimate().status, MclStatus::Initialising);
+  // Some NaN beams: the rest still count.
+  auto r = scan();
+  for (size_t b = 0; b < r.size(); b += 2) r[b] = kNaN;
+  EXPECT_TRUE(loc.addScan(0, 5, r));
+  EXPECT_EQ(loc.estimate().status, MclStatus::Tracking);
+  EXPECT_LT(posErr(loc.estimate().pose, truth), 0.1);
+}
+
+TEST_F(MclRobust, WrongSensorOrSizeIsRejected) {
+  loc.initPose(truth, planarCov(0.1, 0.05), 0);
+  EXPECT_FALSE(loc.addScan(3, 1, scan()));
+  EXPECT_FALSE(loc.addScan(0, 1, std::vector<float>(7, 1.f)));
+  EXPECT_EQ(loc.counters().scans_rejected, 2u);
+}
+
+TEST_F(MclRobust, ZeroOdometryUpdatesOnlyOnce) {
+  loc.initPose(truth, planarCov(0.1, 0.05), 0);
+  for (int i = 0; i < 5; ++i) {
+    loc.addOdometry(i * 100, Pose());
+    const bool updated = loc.addScan(0, i * 100, scan(i));
+    EXPECT_EQ(updated, i == 0) << i;
+  }
+  EXPECT_EQ(loc.counters().updates, 1u);
+  EXPECT_EQ(loc.estimate().status, MclStatus::Tracking);
+}
+
+TEST_F(MclRobust, TimeGoingBackwards) {
+  loc.initPose(truth, planarCov(0.1, 0.05), 0);
+  loc.addOdometry(1000, Pose());
+  loc.addOdometry(500, Pose::planar(5, 5, 1));  // older: ignored
+  EXPECT_EQ(loc.counters().odometry_out_of_order, 1u);
+  Pose bad = Pose::planar(std::numeric_limits<double>::quiet_NaN(), 0, 0);
+  loc.addOdometry(2000, bad);
+  EXPECT_EQ(loc.counters().odometry_invalid, 1u);
+  EXPECT_TRUE(loc.addScan(0, 1000, scan()));
+  EXPECT_FALSE(loc.addScan(0, 900, scan(1)));  // stale scan
+  EXPECT_EQ(loc.counters().scans_rejected, 1u);
+  EXPECT_LT(posErr(loc.estimate().pose, truth), 0.1);  // the ignored odometry did not move it
+}
+
+TEST_F(MclRobust, EmptyMapRegionIsLost) {
+  // Far outside the room: every ray misses, every particle floats over nothing.
+  loc.initPose(Pose::planar(50, 50, 0), planarCov(0.2, 0.1), 0);
+  EXPECT_TRUE(loc.addScan(0, 1, scan()));
+  EXPECT_EQ(loc.estimate().status, MclStatus::Lost);
+  EXPECT_GT(loc.estimate().particles, 0u);
+}
+
+TEST_F(MclRobust, ParticlesInsideWallsGetZeroWeight) {
+  // Centred in the east wall (x in [4, 4.2]): in solid or too close to it.
+  loc.initPose(Pose::planar(4.1, 0, 0), planarCov(0.01, 0.01), 0);
+  loc.addScan(0, 1, scan());
+  EXPECT_GE(loc.counters().particles_blocked, 500u);
+  EXPECT_EQ(loc.counters().weights_collapsed, 1u);
+  EXPECT_EQ(loc.estimate().status, MclStatus::Lost);
+}
+
+TEST(MclParts, SystematicResampleAndKld) {
+  std::vector<double> lw = {std::log(0.5), std::log(0.25), std::log(0.25), -std::numeric_limits<double>::infinity()};
+  ASSERT_TRUE(normalizeLogWeights(lw));
+  EXPECT_NEAR(effectiveSampleSize(lw), 1.0 / (0.25 + 0.0625 + 0.0625), 1e-9);
+  const auto idx = systematicResample(lw, 8, CounterRng(3), 0);
+  ASSERT_EQ(idx.size(), 8u);
+  EXPECT_EQ(std::count(idx.begin(), idx.end(), 0u), 4);
+  EXPECT_EQ(std::count(idx.begin(), idx.end(), 3u), 0);
+  std::vector<double> dead(3, -std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(normalizeLogWeights(dead));
+  EXPECT_NEAR(std::exp(dead[0]), 1.0 / 3, 1e-12);
+  MclConfig c;
+  EXPECT_EQ(kldParticleCount(1, c), c.min_particles);
+  EXPECT_GT(kldParticleCount(200, c), kldParticleCount(20, c));
+  EXPECT_LE(kldParticleCount(100000, c), c.max_particles);
+}
+
+TEST(MclParts, BeamLikelihoodPrefersTheExpectedRange) {
+  BeamModel m;
+  const double at = BeamWeigher::logLikelihood(3.0, 3.0, 10, m);
+  const double off = BeamWeigher::logLikelihood(3.0, 3.2, 10, m);
+  const double outside = BeamWeigher::logLikelihood(3.0, std::numeric_limits<double>::infinity(), 10, m);
+  EXPECT_GT(at, off);
+  EXPECT_GT(off, outside);
+  EXPECT_TRUE(std::isfinite(outside));
+}
