@@ -63,7 +63,8 @@ struct Localizer::Impl {
     est.particles = ps.size();
     std::fill(pending.begin(), pending.end(), 0);
     updated_once = false;
-    w_slow = w_fast = 0;
+    std::fill(w_slow.begin(), w_slow.end(), 0.0);
+    std::fill(w_fast.begin(), w_fast.end(), 0.0);
     odom_at_update = odom_at_predict = last_odom;
     initialised = true;
     if (config.dof == 3) floor.snapToFloor(ps);
@@ -102,12 +103,20 @@ struct Localizer::Impl {
     }
   }
 
+  // Of the sensor weighed last: each sensor has its own likelihood level (a tilted scanner on
+  // the floor fits differently from a horizontal one), so mixing them in one average would make
+  // w_fast swing with the order of sensors and inject particles while tracking well.
   double injectProbability() const {
-    if (config.alpha_slow <= 0 || config.alpha_fast <= 0 || w_slow <= 0) return 0.0;
-    return std::clamp(1.0 - w_fast / w_slow, 0.0, 0.5);
+    if (config.alpha_slow <= 0 || config.alpha_fast <= 0 || current >= w_slow.size() ||
+        w_slow[current] <= 0)
+      return 0.0;
+    return std::clamp(1.0 - w_fast[current] / w_slow[current], 0.0, 0.5);
   }
 
-  bool update(size_t sensor, std::span<const float> ranges) {
+  // end_of_round: no other sensor of the rig is still due after this one. Resampling waits for
+  // it, so the survivors are chosen on the fused evidence of every sensor, not on one sensor
+  // alone (a scanner tilted onto the floor fits any particle on flat floor equally well).
+  bool update(size_t sensor, std::span<const float> ranges, bool end_of_round) {
     // Motion since the last prediction, applied lazily: the noise then scales with the whole
     // step, not with the number of odometry messages.
     const Pose delta = odom_at_predict.inverse() * last_odom;
@@ -127,9 +136,13 @@ struct Localizer::Impl {
       ps.logw[i] += loglik[i];
     }
     w_avg /= double(std::max<size_t>(ps.size(), 1));
-    if (w_slow == 0) w_slow = w_fast = w_avg;
-    w_slow += config.alpha_slow * (w_avg - w_slow);
-    w_fast += config.alpha_fast * (w_avg - w_fast);
+    if (w_slow.size() < rig.size()) w_slow.resize(rig.size(), 0.0), w_fast.resize(rig.size(), 0.0);
+    current = sensor;
+    double& slow = w_slow[sensor];
+    double& fast = w_fast[sensor];
+    if (slow == 0) slow = fast = w_avg;
+    slow += config.alpha_slow * (w_avg - slow);
+    fast += config.alpha_fast * (w_avg - fast);
 
     counters.particles_blocked += floor.zeroBlocked(ps);
     const bool any = normalizeLogWeights(ps.logw);
@@ -142,7 +155,8 @@ struct Localizer::Impl {
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
     // Also resample when injection is due: a lost cloud is flat (high ESS) and would never
     // resample, so it would never get fresh particles.
-    if (est.ess < config.resample_ess * double(ps.size()) || injectProbability() > 0.05) resample();
+    if (end_of_round && (est.ess < config.resample_ess * double(ps.size()) || injectProbability() > 0.05))
+      resample();
     ++counters.updates;
     est.updates = counters.updates;
     est.particles = ps.size();
@@ -166,7 +180,8 @@ struct Localizer::Impl {
   std::vector<uint8_t> pending;
   std::vector<int64_t> last_scan;
   uint64_t step = 0;
-  double w_slow = 0, w_fast = 0;
+  std::vector<double> w_slow, w_fast;  // augmented MCL likelihood averages, per rig sensor
+  size_t current = 0;                  // sensor of the last update
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)
@@ -243,7 +258,8 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
   }
   if (!d.pending[sensor]) return false;
   bool done = false;
-  d.run([&] { done = d.update(sensor, ranges); });
+  const bool last = std::count(d.pending.begin(), d.pending.end(), uint8_t{1}) == 1;
+  d.run([&] { done = d.update(sensor, ranges, last); });
   d.pending[sensor] = 0;
   d.est.stamp_ns = stamp;
   return done;
