@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <deque>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -22,6 +23,7 @@ constexpr uint64_t kResampleStream = 0x524553ULL << 40;
 constexpr uint64_t kInjectStream = 0x494E4AULL << 40;
 constexpr uint64_t kInitStream = 0x494E49ULL << 40;
 constexpr int64_t kOdometryGapNs = 1'000'000'000;
+constexpr int64_t kOdomHistoryNs = 2'000'000'000;  // odometry kept for interpolation to scan stamps
 
 bool finitePose(const Pose& p) {
   return p.translation().allFinite() && p.rotation().coeffs().allFinite() && p.rotation().norm() > 0.5;
@@ -65,7 +67,7 @@ struct Localizer::Impl {
     updated_once = false;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
-    odom_at_update = odom_at_predict = last_odom;
+    odom_at_update = odom_at_predict = scan_odom = odomAt(stamp);
     initialised = true;
     if (config.dof == 3) floor.snapToFloor(ps);
     refreshEstimate(MclStatus::Initialising);
@@ -119,10 +121,10 @@ struct Localizer::Impl {
   bool update(size_t sensor, std::span<const float> ranges, bool end_of_round) {
     // Motion since the last prediction, applied lazily: the noise then scales with the whole
     // step, not with the number of odometry messages.
-    const Pose delta = odom_at_predict.inverse() * last_odom;
+    const Pose delta = odom_at_predict.inverse() * scan_odom;
     ++step;
     if (!delta.isApprox(Pose(), 1e-12)) applyMotion(ps, delta, config.motion, config.dof, rng, step);
-    odom_at_predict = last_odom;
+    odom_at_predict = scan_odom;
     if (config.dof == 3) floor.snapToFloor(ps);
     std::vector<double> loglik(ps.size(), 0.0);
     const size_t used = weigher.weigh(caster, ps, rig.sensors[sensor], beams[sensor], ranges, config, loglik);
@@ -177,6 +179,20 @@ struct Localizer::Impl {
   bool initialised = false, updated_once = false, have_odom = false;
   int64_t last_odom_t = 0;
   Pose last_odom, odom_at_predict, odom_at_update;
+  Pose scan_odom;  // odometry interpolated to the stamp of the scan being weighed
+  std::deque<std::pair<int64_t, Pose>> odom_history;  // the last kOdomHistoryNs of odometry
+
+  // Odometry at time t: scans and odometry come at different rates, and a scanner at 12.5 Hz
+  // lags 50 Hz odometry by up to 20 ms, half a degree at 0.5 rad/s. Not extrapolated.
+  Pose odomAt(int64_t t) const {
+    if (odom_history.empty() || t >= odom_history.back().first) return last_odom;
+    if (t <= odom_history.front().first) return odom_history.front().second;
+    auto hi = std::lower_bound(odom_history.begin(), odom_history.end(), t,
+                               [](const auto& e, int64_t v) { return e.first < v; });
+    auto lo = hi - 1;
+    const double s = double(t - lo->first) / double(hi->first - lo->first);
+    return Pose::interpolate(lo->second, hi->second, s);
+  }
   std::vector<uint8_t> pending;
   std::vector<int64_t> last_scan;
   uint64_t step = 0;
@@ -237,6 +253,9 @@ void Localizer::addOdometry(int64_t stamp, const Pose& odom_T_base) {
   }
   d.last_odom_t = stamp;
   d.last_odom = odom_T_base;
+  d.odom_history.emplace_back(stamp, odom_T_base);
+  while (d.odom_history.size() > 2 && stamp - d.odom_history.front().first > kOdomHistoryNs)
+    d.odom_history.pop_front();
 }
 
 bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ranges) {
@@ -248,12 +267,13 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
   if (BeamWeigher::selectBeams(d.beams[sensor], ranges, 1).empty()) return ++d.counters.scans_rejected, false;
   d.last_scan[sensor] = stamp;
   // Update after enough motion (or the first scan); every sensor then contributes one scan.
-  const Pose moved = d.odom_at_update.inverse() * d.last_odom;
+  d.scan_odom = d.odomAt(stamp);
+  const Pose moved = d.odom_at_update.inverse() * d.scan_odom;
   const double turned = std::abs(Eigen::AngleAxisd(moved.rotation()).angle());
   if (!d.updated_once || moved.translation().norm() >= d.config.update_min_distance ||
       turned >= d.config.update_min_angle) {
     std::fill(d.pending.begin(), d.pending.end(), 1);
-    d.odom_at_update = d.last_odom;
+    d.odom_at_update = d.scan_odom;
     d.updated_once = true;
   }
   if (!d.pending[sensor]) return false;
