@@ -1,14 +1,27 @@
+#include <polyloc/geometry/random.hpp>
 #include <polyloc/mcl/beam_model.hpp>
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace polyloc {
 
-std::vector<size_t> BeamWeigher::selectBeams(const BeamSet& beams, std::span<const float> ranges,
-                                             size_t max_beams) {
+BeamSensorModel::BeamSensorModel(const RayCaster& caster, const Rig& rig, const MclConfig& config)
+    : caster_(caster), rig_(rig), config_(config) {
+  for (const auto& s : rig.sensors) sensor_beams_.push_back(s.beams());
+}
+
+double BeamSensorModel::unexplainedLogLikelihood(size_t sensor) const {
+  const auto& m = config_.beam;
+  return std::log(m.z_short * m.lambda_short + m.z_rand / sensor_beams_.at(sensor).range_max);
+}
+
+std::vector<size_t> BeamSensorModel::selectBeams(const BeamSet& beams, std::span<const float> ranges,
+                                                 size_t max_beams, const std::string& strategy,
+                                                 uint64_t seed, uint64_t stream) {
   std::vector<size_t> valid;
   for (size_t b = 0; b < ranges.size() && b < beams.size(); ++b) {
     const float r = ranges[b];
@@ -16,13 +29,24 @@ std::vector<size_t> BeamWeigher::selectBeams(const BeamSet& beams, std::span<con
     if (std::isfinite(r) && r >= beams.range_min && r < beams.range_max) valid.push_back(b);
   }
   if (max_beams == 0 || valid.size() <= max_beams) return valid;
+  if (strategy == "random") {
+    // Partial Fisher-Yates: max_beams distinct beams, then back in beam order (cache-friendly).
+    const CounterRng rng(seed);
+    for (size_t i = 0; i < max_beams; ++i) {
+      const size_t j = i + std::min(valid.size() - i - 1, size_t(rng.uniform(stream, i) * double(valid.size() - i)));
+      std::swap(valid[i], valid[j]);
+    }
+    valid.resize(max_beams);
+    std::sort(valid.begin(), valid.end());
+    return valid;
+  }
   // Evenly spread over the valid beams: the whole field of view keeps its say.
   std::vector<size_t> out(max_beams);
   for (size_t i = 0; i < max_beams; ++i) out[i] = valid[(i * valid.size()) / max_beams];
   return out;
 }
 
-double BeamWeigher::logLikelihood(double z, double e, double range_max, const BeamModel& m) {
+double BeamSensorModel::logLikelihood(double z, double e, double range_max, const BeamModel& m) {
   const double p_rand = m.z_rand / range_max;
   double p_short = 0;
   double p_hit = 0;
@@ -38,10 +62,13 @@ double BeamWeigher::logLikelihood(double z, double e, double range_max, const Be
   return std::log(p_hit + p_short + p_rand);
 }
 
-size_t BeamWeigher::weigh(const RayCaster& caster, const ParticleSet& ps, const Sensor& sensor,
-                          const BeamSet& all, std::span<const float> ranges, const MclConfig& cfg,
-                          std::span<double> loglik) {
-  const std::vector<size_t> sel = selectBeams(all, ranges, cfg.beams_per_scan);
+size_t BeamSensorModel::weigh(const ParticleSet& ps, const SensorFrame& frame, std::span<double> loglik) {
+  const MclConfig& cfg = config_;
+  const Sensor& sensor = rig_.sensors.at(frame.sensor);
+  const BeamSet& all = sensor_beams_[frame.sensor];
+  const std::span<const float> ranges = frame.ranges;
+  const std::vector<size_t> sel =
+      selectBeams(all, ranges, cfg.beams_per_scan, cfg.subsample, cfg.seed, (uint64_t(frame.sensor) << 48) + frame.step);
   const size_t B = sel.size(), P = ps.size();
   if (B == 0 || P == 0) return 0;
   const BeamModel& m = cfg.beam;
@@ -63,7 +90,7 @@ size_t BeamWeigher::weigh(const RayCaster& caster, const ParticleSet& ps, const 
   });
   HitBuffers out;
   out.range = hits_.data();
-  caster.castScans(poses_, beams_, out, ScanWindow{tmin_.data(), tmax_.data()});
+  caster_.castScans(poses_, beams_, out, ScanWindow{tmin_.data(), tmax_.data()});
   const double rmax = all.range_max;
   // Per particle, a sequential sum over its beams: the same for any split over threads.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 256), [&](const tbb::blocked_range<size_t>& r) {

@@ -1,4 +1,5 @@
 #include <polyloc/mcl/config_yaml.hpp>
+#include <polyloc/mcl/sensor_model.hpp>
 
 #include <limits>
 
@@ -14,7 +15,12 @@ MclConfig parseMclConfig(ConfigMap m) {
   };
   c.dof = int(m.getInt("dof", c.dof));
   if (c.dof != 3 && c.dof != 6) m.value("dof").fail("must be 3 or 6");
-  c.model = m.getChoice("model", c.model, {"beam"});  // more models are planned (issue 4)
+  {
+    std::vector<std::string> names = sensorModelNames();
+    c.model = m.getChoice("model", c.model, names);
+    names.push_back("none");
+    c.depth_model = m.getChoice("depth_model", c.depth_model, names);
+  }
   c.particles = count("particles", c.particles);
   c.min_particles = count("min_particles", c.min_particles);
   c.max_particles = count("max_particles", c.max_particles);

@@ -2,6 +2,7 @@
 // particles zeroed, ESS-triggered systematic resampling with KLD particle count and augmented-MCL
 // injection, dominant-cluster estimate.
 #include <polyloc/mcl/beam_model.hpp>
+#include <polyloc/mcl/sensor_model.hpp>
 #include <polyloc/mcl/estimate.hpp>
 #include <polyloc/mcl/global_init.hpp>
 #include <polyloc/mcl/localizer.hpp>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <variant>
 
 namespace polyloc {
 
@@ -48,6 +50,17 @@ struct Localizer::Impl {
   Impl(const RayCaster& c, const Mesh& m, const Rig& r, const MclConfig& cfg)
       : caster(c), rig(r), config(cfg), floor(c, m, config), rng(cfg.seed) {
     for (const auto& s : rig.sensors) beams.push_back(s.beams());
+    // One model instance per name; each sensor points at the one its kind is configured for.
+    for (const auto& s : rig.sensors) {
+      const std::string& name = std::holds_alternative<DepthCameraSpec>(s.spec) ? config.depth_model : config.model;
+      if (name == "none") {
+        model_of.push_back(nullptr);
+        continue;
+      }
+      auto it = std::find_if(models.begin(), models.end(), [&](const auto& mdl) { return name == mdl->name(); });
+      if (it == models.end()) models.push_back(makeSensorModel(name, c, m, rig, config)), it = models.end() - 1;
+      model_of.push_back(it->get());
+    }
     pending.assign(rig.size(), 0);
     last_scan.assign(rig.size(), std::numeric_limits<int64_t>::min());
     if (config.threads > 0) arena.emplace(config.threads);
@@ -118,7 +131,7 @@ struct Localizer::Impl {
   // end_of_round: no other sensor of the rig is still due after this one. Resampling waits for
   // it, so the survivors are chosen on the fused evidence of every sensor, not on one sensor
   // alone (a scanner tilted onto the floor fits any particle on flat floor equally well).
-  bool update(size_t sensor, std::span<const float> ranges, bool end_of_round) {
+  bool update(size_t sensor, int64_t stamp, std::span<const float> ranges, bool end_of_round) {
     // Motion since the last prediction, applied lazily: the noise then scales with the whole
     // step, not with the number of odometry messages.
     const Pose delta = odom_at_predict.inverse() * scan_odom;
@@ -127,13 +140,15 @@ struct Localizer::Impl {
     odom_at_predict = scan_odom;
     if (config.dof == 3) floor.snapToFloor(ps);
     std::vector<double> loglik(ps.size(), 0.0);
-    const size_t used = weigher.weigh(caster, ps, rig.sensors[sensor], beams[sensor], ranges, config, loglik);
+    SensorModel& model = *model_of[sensor];
+    const SensorFrame frame{sensor, stamp, ranges, scan_odom, step};
+    const size_t used = model.weigh(ps, frame, loglik);
     if (used == 0) return false;
     // Mean per-beam likelihood (geometric) of the particles: for augmented MCL and "lost".
     // Untempered (log_scale divided out): tempering must not hide a kidnapping.
     double w_avg = 0, best = -std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < ps.size(); ++i) {
-      const double l = loglik[i] / (double(used) * config.beam.log_scale);
+      const double l = loglik[i] / (double(used) * model.logScale());
       w_avg += std::exp(l), best = std::max(best, l);
       ps.logw[i] += loglik[i];
     }
@@ -151,9 +166,7 @@ struct Localizer::Impl {
     if (!any) ++counters.weights_collapsed;
     est.ess = effectiveSampleSize(ps.logw);
     // No particle explains the scan better than the non-hit parts of the mixture: lost.
-    const auto& m = config.beam;
-    const double floor_density = m.z_short * m.lambda_short + m.z_rand / beams[sensor].range_max;
-    const bool lost = !any || best < std::log(floor_density);
+    const bool lost = !any || best < model.unexplainedLogLikelihood(sensor);
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
     // Also resample when injection is due: a lost cloud is flat (high ESS) and would never
     // resample, so it would never get fresh particles.
@@ -171,7 +184,8 @@ struct Localizer::Impl {
   FloorModel floor;
   CounterRng rng;
   std::vector<BeamSet> beams;
-  BeamWeigher weigher;
+  std::vector<std::unique_ptr<SensorModel>> models;
+  std::vector<SensorModel*> model_of;  // per rig sensor; null: its frames are not used
   std::optional<tbb::task_arena> arena;
   ParticleSet ps;
   MclCounters counters;
@@ -264,7 +278,8 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
   if (!d.initialised || sensor >= d.rig.size() || ranges.size() != d.beams[sensor].size() ||
       stamp < d.last_scan[sensor] || d.ps.size() == 0)
     return ++d.counters.scans_rejected, false;
-  if (BeamWeigher::selectBeams(d.beams[sensor], ranges, 1).empty()) return ++d.counters.scans_rejected, false;
+  if (BeamSensorModel::selectBeams(d.beams[sensor], ranges, 1).empty()) return ++d.counters.scans_rejected, false;
+  if (!d.model_of[sensor]) return false;  // depth_model: none
   d.last_scan[sensor] = stamp;
   // Update after enough motion (or the first scan); every sensor then contributes one scan.
   d.scan_odom = d.odomAt(stamp);
@@ -272,14 +287,14 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
   const double turned = std::abs(Eigen::AngleAxisd(moved.rotation()).angle());
   if (!d.updated_once || moved.translation().norm() >= d.config.update_min_distance ||
       turned >= d.config.update_min_angle) {
-    std::fill(d.pending.begin(), d.pending.end(), 1);
+    for (size_t k = 0; k < d.pending.size(); ++k) d.pending[k] = d.model_of[k] != nullptr;
     d.odom_at_update = d.scan_odom;
     d.updated_once = true;
   }
   if (!d.pending[sensor]) return false;
   bool done = false;
   const bool last = std::count(d.pending.begin(), d.pending.end(), uint8_t{1}) == 1;
-  d.run([&] { done = d.update(sensor, ranges, last); });
+  d.run([&] { done = d.update(sensor, stamp, ranges, last); });
   d.pending[sensor] = 0;
   d.est.stamp_ns = stamp;
   return done;

@@ -122,9 +122,9 @@ TEST(MclParts, SystematicResampleAndKld) {
 
 TEST(MclParts, BeamLikelihoodPrefersTheExpectedRange) {
   BeamModel m;
-  const double at = BeamWeigher::logLikelihood(3.0, 3.0, 10, m);
-  const double off = BeamWeigher::logLikelihood(3.0, 3.2, 10, m);
-  const double outside = BeamWeigher::logLikelihood(3.0, std::numeric_limits<double>::infinity(), 10, m);
+  const double at = BeamSensorModel::logLikelihood(3.0, 3.0, 10, m);
+  const double off = BeamSensorModel::logLikelihood(3.0, 3.2, 10, m);
+  const double outside = BeamSensorModel::logLikelihood(3.0, std::numeric_limits<double>::infinity(), 10, m);
   EXPECT_GT(at, off);
   EXPECT_GT(off, outside);
   EXPECT_TRUE(std::isfinite(outside));

@@ -7,32 +7,36 @@
 // information and are skipped.
 #pragma once
 
-#include <polyloc/mcl/config.hpp>
-#include <polyloc/mcl/localizer.hpp>
-#include <polyloc/raycast/ray_caster.hpp>
-#include <polyloc/sensors/sensor.hpp>
+#include <polyloc/mcl/sensor_model.hpp>
 
 #include <span>
 #include <vector>
 
 namespace polyloc {
 
-class BeamWeigher {
+class BeamSensorModel : public SensorModel {
  public:
-  // Adds each particle's log-likelihood of `ranges` to loglik[p] (size particles.size()).
-  // Returns the number of beams used (0: nothing usable, loglik untouched).
-  size_t weigh(const RayCaster& caster, const ParticleSet& particles, const Sensor& sensor,
-               const BeamSet& all_beams, std::span<const float> ranges, const MclConfig& config,
-               std::span<double> loglik);
+  BeamSensorModel(const RayCaster& caster, const Rig& rig, const MclConfig& config);
+  const char* name() const override { return "beam"; }
+  size_t weigh(const ParticleSet& particles, const SensorFrame& frame, std::span<double> loglik) override;
+  double unexplainedLogLikelihood(size_t sensor) const override;
+  double logScale() const override { return config_.beam.log_scale; }
 
-  // The same beam selection weigh() makes (indices into the sensor's beams).
+  // Valid beams of a scan (indices into the sensor's beams), at most max_beams of them (0: all):
+  // "uniform" spreads them evenly over the valid ones, "random" draws them without repetition
+  // from counter-based random numbers of `stream` (the same for any thread count).
   static std::vector<size_t> selectBeams(const BeamSet& beams, std::span<const float> ranges,
-                                         size_t max_beams);
+                                         size_t max_beams, const std::string& strategy = "uniform",
+                                         uint64_t seed = 0, uint64_t stream = 0);
 
   // log p(measured | expected), expected = +inf when outside the window.
   static double logLikelihood(double measured, double expected, double range_max, const BeamModel& m);
 
  private:
+  const RayCaster& caster_;
+  const Rig& rig_;
+  const MclConfig& config_;
+  std::vector<BeamSet> sensor_beams_;
   // Reused between calls: no allocation once sizes settle.
   BeamSet beams_;
   std::vector<float> measured_, tmin_, tmax_, hits_;

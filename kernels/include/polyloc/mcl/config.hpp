@@ -30,7 +30,8 @@ struct BeamModel {
 
 struct MclConfig {
   int dof = 3;                      // 3: x, y, yaw on the floor; 6: full pose
-  std::string model = "beam";       // beam | likelihood_field | depth | plane_fragments
+  std::string model = "beam";       // scanners, lidar: beam | likelihood_field | plane_fragments
+  std::string depth_model = "beam"; // depth cameras: beam | likelihood_field | depth | none
   size_t particles = 2000;          // initial count (tracking)
   size_t min_particles = 500;       // KLD-sampling bounds
   size_t max_particles = 20000;
