@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace polyloc {
@@ -71,7 +72,9 @@ size_t BeamSensorModel::weigh(const ParticleSet& ps, const SensorFrame& frame, s
       selectBeams(all, ranges, cfg.beams_per_scan, cfg.subsample, cfg.seed, (uint64_t(frame.sensor) << 48) + frame.step);
   const size_t B = sel.size(), P = ps.size();
   if (B == 0 || P == 0) return 0;
-  const BeamModel& m = cfg.beam;
+  BeamModel m = cfg.beam;
+  if (frame.coarse) m.sigma_hit = m.coarse_sigma_hit, m.log_scale = m.coarse_log_scale;
+  last_log_scale_ = m.log_scale;
   const double w = std::max(m.window_sigmas * m.sigma_hit, m.window_min);
   beams_.dx.resize(B), beams_.dy.resize(B), beams_.dz.resize(B);
   beams_.range_min = all.range_min, beams_.range_max = all.range_max;
@@ -91,13 +94,34 @@ size_t BeamSensorModel::weigh(const ParticleSet& ps, const SensorFrame& frame, s
   HitBuffers out;
   out.range = hits_.data();
   caster_.castScans(poses_, beams_, out, ScanWindow{tmin_.data(), tmax_.data()});
+  // Per beam, the parts of the mixture that do not depend on the particle; the short term's
+  // normaliser 1 / (1 - exp(-lambda e)) is taken at the measured range (the expected range e
+  // lies within the window around it), so a beam costs one expf and one logf per particle.
   const double rmax = all.range_max;
+  const float p_rand = float(m.z_rand / rmax);
+  const float hit_scale = float(m.z_hit / (m.sigma_hit * 2.5066282746310002));
+  const float half_inv_var = float(0.5 / (m.sigma_hit * m.sigma_hit));
+  short_.resize(B), miss_.resize(B);
+  for (size_t i = 0; i < B; ++i) {
+    const double z = measured_[i];
+    const double dens = m.z_short * m.lambda_short * std::exp(-m.lambda_short * z);
+    short_[i] = float(dens / std::max(1e-6, 1.0 - std::exp(-m.lambda_short * z)));
+    miss_[i] = float(logLikelihood(z, std::numeric_limits<double>::infinity(), rmax, m));
+  }
   // Per particle, a sequential sum over its beams: the same for any split over threads.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t p = r.begin(); p < r.end(); ++p) {
       const float* h = hits_.data() + p * B;
       double s = 0;
-      for (size_t i = 0; i < B; ++i) s += logLikelihood(measured_[i], h[i], rmax, m);
+      for (size_t i = 0; i < B; ++i) {
+        if (!std::isfinite(h[i])) {
+          s += miss_[i];
+          continue;
+        }
+        const float d = measured_[i] - h[i];
+        const float dens = hit_scale * std::exp(-half_inv_var * d * d) + (d < 0 ? short_[i] : 0.f) + p_rand;
+        s += std::log(dens);
+      }
       loglik[p] += m.log_scale * s;
     }
   });

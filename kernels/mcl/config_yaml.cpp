@@ -38,6 +38,7 @@ MclConfig parseMclConfig(ConfigMap m) {
   c.subsample = m.getChoice("subsample", c.subsample, {"uniform"});
   c.update_min_distance = m.getDouble("update_min_distance", c.update_min_distance, 0, kBig);
   c.update_min_angle = m.getAngle("update_min_angle", c.update_min_angle);
+  c.round_timeout = m.getDouble("round_timeout", c.round_timeout, 0, 1e3);
   c.robot_radius = m.getDouble("robot_radius", c.robot_radius, 0, 100);
   c.body_height = m.getDouble("body_height", c.body_height, 0, 100);
   c.uncertain_xy = m.getDouble("uncertain_xy", c.uncertain_xy, 0, kBig);
@@ -57,6 +58,26 @@ MclConfig parseMclConfig(ConfigMap m) {
     mn.omni = n.getChoice("drive", mn.omni ? "omni" : "differential", {"differential", "omni"}) == "omni";
     n.finish();
   }
+  if (m.has("refine")) {
+    ConfigMap r = m.map("refine");
+    RefineConfig& rc = c.refine;
+    rc.enabled = r.getBool("enabled", rc.enabled);
+    rc.iterations = int(r.getInt("iterations", rc.iterations));
+    if (rc.iterations < 1 || rc.iterations > 1000) r.value("iterations").fail("must be between 1 and 1000");
+    const int64_t beams = r.getInt("beams_per_scan", int64_t(rc.beams_per_scan));
+    if (beams < 0) r.value("beams_per_scan").fail("must be >= 0 (0 = all)");
+    rc.beams_per_scan = size_t(beams);
+    rc.max_correspondence = r.getDouble("max_correspondence", rc.max_correspondence, 1e-4, 100);
+    rc.huber = r.getDouble("huber", rc.huber, 1e-5, 100);
+    rc.min_step = r.getDouble("min_step", rc.min_step, 0, 1);
+    rc.max_final_step = r.getDouble("max_final_step", rc.max_final_step, 0, 1);
+    rc.min_correspondences = size_t(r.getInt("min_correspondences", int64_t(rc.min_correspondences)));
+    rc.max_correction = r.getDouble("max_correction", rc.max_correction, 0, 100);
+    rc.max_correction_yaw = r.getAngle("max_correction_yaw", rc.max_correction_yaw);
+    rc.min_inlier_ratio = r.getDouble("min_inlier_ratio", rc.min_inlier_ratio, 0, 1);
+    rc.cast_margin = r.getDouble("cast_margin", rc.cast_margin, 0, 100);
+    r.finish();
+  }
   if (m.has("beam")) {
     ConfigMap b = m.map("beam");
     BeamModel& bm = c.beam;
@@ -69,7 +90,47 @@ MclConfig parseMclConfig(ConfigMap m) {
     bm.window_sigmas = b.getDouble("window_sigmas", bm.window_sigmas, 0, 1000);
     bm.window_min = b.getDouble("window_min", bm.window_min, 0, 1000);
     bm.log_scale = b.getDouble("log_scale", bm.log_scale, 1e-6, 1);
+    bm.coarse_sigma_hit = b.getDouble("coarse_sigma_hit", bm.coarse_sigma_hit, 1e-4, 100);
+    bm.coarse_log_scale = b.getDouble("coarse_log_scale", bm.coarse_log_scale, 1e-6, 1);
     b.finish();
+  }
+  if (m.has("likelihood_field")) {
+    ConfigMap b = m.map("likelihood_field");
+    LikelihoodField& lf = c.likelihood_field;
+    lf.sigma_hit = b.getDouble("sigma_hit", lf.sigma_hit, 1e-4, 100);
+    lf.z_hit = b.getDouble("z_hit", lf.z_hit, 0, 1);
+    lf.z_rand = b.getDouble("z_rand", lf.z_rand, 1e-9, 1);
+    lf.resolution = b.getDouble("resolution", lf.resolution, 0.005, 10);
+    lf.max_distance = b.getDouble("max_distance", lf.max_distance, 1e-3, 100);
+    lf.log_scale = b.getDouble("log_scale", lf.log_scale, 1e-6, 1);
+    b.finish();
+  }
+  if (m.has("plane_fragments")) {
+    ConfigMap f = m.map("plane_fragments");
+    PlaneFragments& pf = c.plane_fragments;
+    auto fcount = [&](const char* key, size_t def, int64_t lo) {
+      const int64_t v = f.getInt(key, int64_t(def));
+      if (v < lo || v > 1'000'000) f.value(key).fail("must be between " + std::to_string(lo) + " and 1000000");
+      return size_t(v);
+    };
+    pf.split_threshold = f.getDouble("split_threshold", pf.split_threshold, 1e-4, 10);
+    pf.min_points = fcount("min_points", pf.min_points, 2);
+    pf.min_length = f.getDouble("min_length", pf.min_length, 0, 100);
+    pf.max_gap = f.getDouble("max_gap", pf.max_gap, 1e-3, 100);
+    pf.intersect_tolerance = f.getDouble("intersect_tolerance", pf.intersect_tolerance, 1e-4, 10);
+    pf.extent_margin = f.getDouble("extent_margin", pf.extent_margin, 0, 10);
+    pf.min_angle = f.getAngle("min_angle", pf.min_angle);
+    if (!(pf.min_angle > 0 && pf.min_angle < 1.5707963267948966)) f.value("min_angle").fail("must be in (0, 90) deg");
+    pf.sigma_distance = f.getDouble("sigma_distance", pf.sigma_distance, 1e-4, 100);
+    pf.sigma_angle = f.getAngle("sigma_angle", pf.sigma_angle);
+    if (!(pf.sigma_angle > 0 && pf.sigma_angle <= 3.141592653589793)) f.value("sigma_angle").fail("must be in (0, 180] deg");
+    pf.z_hit = f.getDouble("z_hit", pf.z_hit, 0, 1);
+    pf.z_rand = f.getDouble("z_rand", pf.z_rand, 1e-9, 1);
+    pf.window = f.getDouble("window", pf.window, 1e-3, 100);
+    pf.max_age = f.getDouble("max_age", pf.max_age, 0, 3600);
+    pf.max_fragments = fcount("max_fragments", pf.max_fragments, 0);
+    pf.log_scale = f.getDouble("log_scale", pf.log_scale, 1e-6, 1);
+    f.finish();
   }
   m.finish();
   return c;

@@ -18,7 +18,7 @@ Eigen::Quaterniond onFloor(const Eigen::Vector3d& n, double yaw) {
 }
 }  // namespace
 
-FloorModel::FloorModel(const RayCaster& caster, const Mesh& map, const MclConfig& config)
+FreeFloor::FreeFloor(const RayCaster& caster, const Mesh& map, const MclConfig& config)
     : caster_(caster), config_(config), bounds_(map.bounds()) {
   floor_label_.assign(map.label_names.size(), 0);
   bool any = false;
@@ -29,9 +29,9 @@ FloorModel::FloorModel(const RayCaster& caster, const Mesh& map, const MclConfig
   if (!any) floor_label_.assign(map.label_names.size(), 1);  // unlabelled map: any surface
 }
 
-bool FloorModel::isFloorLabel(uint32_t l) const { return l < floor_label_.size() && floor_label_[l]; }
+bool FreeFloor::isFloorLabel(uint32_t l) const { return l < floor_label_.size() && floor_label_[l]; }
 
-void FloorModel::snapToFloor(ParticleSet& s, double step_up, double max_drop) const {
+void FreeFloor::snapToFloor(ParticleSet& s, double step_up, double max_drop) const {
   const size_t n = s.size();
   if (n == 0) return;
   std::vector<float> ox(n), oy(n), oz(n), dx(n, 0.f), dy(n, 0.f), dz(n, -1.f), tmax(n, float(step_up + max_drop));
@@ -51,7 +51,7 @@ void FloorModel::snapToFloor(ParticleSet& s, double step_up, double max_drop) co
   });
 }
 
-size_t FloorModel::zeroBlocked(ParticleSet& s) const {
+size_t FreeFloor::zeroBlocked(ParticleSet& s) const {
   const size_t n = s.size();
   std::vector<Eigen::Vector3f> pts(n);
   for (size_t i = 0; i < n; ++i) pts[i] = (s.pose(i) * Eigen::Vector3d(0, 0, config_.body_height)).cast<float>();
@@ -63,7 +63,7 @@ size_t FloorModel::zeroBlocked(ParticleSet& s) const {
   return blocked;
 }
 
-std::vector<Pose> FloorModel::sampleFree(size_t n, const CounterRng& rng, uint64_t stream) const {
+std::vector<Pose> FreeFloor::sampleFree(size_t n, const CounterRng& rng, uint64_t stream) const {
   std::vector<Pose> out;
   if (bounds_.isEmpty() || n == 0) return out;
   const size_t batch = std::max<size_t>(4 * n, 1024);

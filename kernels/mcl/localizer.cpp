@@ -7,6 +7,7 @@
 #include <polyloc/mcl/global_init.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/motion_model.hpp>
+#include <polyloc/mcl/refine.hpp>
 #include <polyloc/mcl/resample.hpp>
 
 #include <tbb/task_arena.h>
@@ -62,6 +63,7 @@ struct Localizer::Impl {
       model_of.push_back(it->get());
     }
     pending.assign(rig.size(), 0);
+    round_frames.resize(rig.size());
     last_scan.assign(rig.size(), std::numeric_limits<int64_t>::min());
     if (config.threads > 0) arena.emplace(config.threads);
   }
@@ -78,6 +80,8 @@ struct Localizer::Impl {
     est.particles = ps.size();
     std::fill(pending.begin(), pending.end(), 0);
     updated_once = false;
+    round_sensors = round_lost = round_collapsed = 0;
+    inject_due = 0;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
     odom_at_update = odom_at_predict = scan_odom = odomAt(stamp);
@@ -128,10 +132,10 @@ struct Localizer::Impl {
     return std::clamp(1.0 - w_fast[current] / w_slow[current], 0.0, 0.5);
   }
 
-  // end_of_round: no other sensor of the rig is still due after this one. Resampling waits for
-  // it, so the survivors are chosen on the fused evidence of every sensor, not on one sensor
-  // alone (a scanner tilted onto the floor fits any particle on flat floor equally well).
-  bool update(size_t sensor, int64_t stamp, std::span<const float> ranges, bool end_of_round) {
+  // Weighs one sensor's frame into the particle weights. Resampling waits for the end of the
+  // round (closeRound), so the survivors are chosen on the fused evidence of every sensor, not on
+  // one sensor alone (a scanner tilted onto the floor fits any particle on flat floor equally).
+  bool update(size_t sensor, int64_t stamp, std::span<const float> ranges) {
     // Motion since the last prediction, applied lazily: the noise then scales with the whole
     // step, not with the number of odometry messages.
     const Pose delta = odom_at_predict.inverse() * scan_odom;
@@ -139,9 +143,9 @@ struct Localizer::Impl {
     if (!delta.isApprox(Pose(), 1e-12)) applyMotion(ps, delta, config.motion, config.dof, rng, step);
     odom_at_predict = scan_odom;
     if (config.dof == 3) floor.snapToFloor(ps);
-    std::vector<double> loglik(ps.size(), 0.0);
+    loglik.assign(ps.size(), 0.0);
     SensorModel& model = *model_of[sensor];
-    const SensorFrame frame{sensor, stamp, ranges, scan_odom, step};
+    const SensorFrame frame{sensor, stamp, ranges, scan_odom, step, est.status != MclStatus::Tracking};
     const size_t used = model.weigh(ps, frame, loglik);
     if (used == 0) return false;
     // Mean per-beam likelihood (geometric) of the particles: for augmented MCL and "lost".
@@ -162,30 +166,76 @@ struct Localizer::Impl {
     fast += config.alpha_fast * (w_avg - fast);
 
     counters.particles_blocked += floor.zeroBlocked(ps);
-    const bool any = normalizeLogWeights(ps.logw);
-    if (!any) ++counters.weights_collapsed;
-    est.ess = effectiveSampleSize(ps.logw);
-    // No particle explains the scan better than the non-hit parts of the mixture: lost.
-    const bool lost = !any || best < model.unexplainedLogLikelihood(sensor);
-    refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
-    // Also resample when injection is due: a lost cloud is flat (high ESS) and would never
-    // resample, so it would never get fresh particles.
-    if (end_of_round && (est.ess < config.resample_ess * double(ps.size()) || injectProbability() > 0.05))
-      resample();
+    if (!normalizeLogWeights(ps.logw)) ++counters.weights_collapsed, ++round_collapsed;
+    // No particle explains the scan better than the non-hit parts of the mixture.
+    round_lost += best < model.unexplainedLogLikelihood(sensor);
+    ++round_sensors;
+    if (config.refine.enabled) {
+      RoundFrame& f = round_frames[sensor];
+      f.ranges.assign(ranges.begin(), ranges.end());
+      f.odom = scan_odom;
+      f.valid = true;
+    }
+    inject_due = std::max(inject_due, injectProbability());
     ++counters.updates;
     est.updates = counters.updates;
-    est.particles = ps.size();
+    est.stamp_ns = stamp;
     return true;
   }
+
+  // Ends a round of sensor updates: the estimate, then resampling when the weights have
+  // degenerated or injection is due (a lost cloud is flat, high ESS, and would never resample,
+  // so it would never get fresh particles).
+  void closeRound() {
+    if (round_sensors == 0) return;
+    est.ess = effectiveSampleSize(ps.logw);
+    // Lost when most sensors of the round are explained by no particle (one sensor alone may be
+    // blinded by a person standing in front of it).
+    const bool lost = round_collapsed > 0 || 2 * round_lost > round_sensors;
+    refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
+    if (config.refine.enabled) refineEstimate();
+    if (est.ess < config.resample_ess * double(ps.size()) || inject_due > 0.05) resample();
+    est.particles = ps.size();
+    round_sensors = round_lost = round_collapsed = 0;
+    inject_due = 0;
+  }
+
+  // The estimate refined against the mesh with the round's frames (refine.hpp), while tracking:
+  // a wrong-mode or spread cloud is left to the filter. The particles are not moved: the
+  // refinement is an output, the filter stays a filter.
+  void refineEstimate() {
+    est.refined = false;
+    const Pose& ref = odom_at_predict;  // odometry at the last weighed frame: the estimate's time
+    std::vector<RefineScan> scans;
+    for (size_t k = 0; k < round_frames.size(); ++k) {
+      RoundFrame& f = round_frames[k];
+      if (f.valid && est.status == MclStatus::Tracking) scans.push_back(RefineScan{k, f.ranges, ref.inverse() * f.odom});
+      f.valid = false;  // the data stays until the next round overwrites it
+    }
+    if (scans.empty()) return;
+    const RefineResult r = refinePose(caster, rig, scans, est.pose, config.dof, config.refine);
+    if (!r.accepted) return void(++counters.refinements_refused);
+    est.pose = r.pose;
+    est.refined = true;
+    ++counters.refinements;
+  }
+
+  struct RoundFrame {
+    std::vector<float> ranges;
+    Pose odom;
+    bool valid = false;
+  };
+  std::vector<RoundFrame> round_frames;  // per rig sensor: its frame of the open round (refine)
 
   const RayCaster& caster;
   Rig rig;
   MclConfig config;
-  FloorModel floor;
+  FreeFloor floor;
   CounterRng rng;
   std::vector<BeamSet> beams;
   std::vector<std::unique_ptr<SensorModel>> models;
-  std::vector<SensorModel*> model_of;  // per rig sensor; null: its frames are not used
+  std::vector<SensorModel*> model_of;
+  std::vector<double> loglik;          // per particle, reused between updates  // per rig sensor; null: its frames are not used
   std::optional<tbb::task_arena> arena;
   ParticleSet ps;
   MclCounters counters;
@@ -212,6 +262,10 @@ struct Localizer::Impl {
   uint64_t step = 0;
   std::vector<double> w_slow, w_fast;  // augmented MCL likelihood averages, per rig sensor
   size_t current = 0;                  // sensor of the last update
+  // The open round: sensors weighed, of them lost, collapsed weightings, largest injection due.
+  size_t round_sensors = 0, round_lost = 0, round_collapsed = 0;
+  double inject_due = 0;
+  int64_t round_start = 0;
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)
@@ -281,23 +335,34 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
   if (BeamSensorModel::selectBeams(d.beams[sensor], ranges, 1).empty()) return ++d.counters.scans_rejected, false;
   if (!d.model_of[sensor]) return false;  // depth_model: none
   d.last_scan[sensor] = stamp;
-  // Update after enough motion (or the first scan); every sensor then contributes one scan.
+  // A round starts after enough motion (or with the first scan); every sensor then contributes
+  // its next frame. Motion during an open round does not restart it (a turn in place would then
+  // close every round after one or two sensors, and resample on their evidence alone); a round
+  // still open after round_timeout (a sensor dropped out) is closed with what it has.
   d.scan_odom = d.odomAt(stamp);
+  bool closed = false;
+  bool open = std::count(d.pending.begin(), d.pending.end(), uint8_t{1}) > 0;
+  if (open && stamp - d.round_start > int64_t(d.config.round_timeout * 1e9)) {
+    d.run([&] { d.closeRound(); });
+    closed = true, open = false;
+    std::fill(d.pending.begin(), d.pending.end(), 0);
+  }
   const Pose moved = d.odom_at_update.inverse() * d.scan_odom;
   const double turned = std::abs(Eigen::AngleAxisd(moved.rotation()).angle());
-  if (!d.updated_once || moved.translation().norm() >= d.config.update_min_distance ||
-      turned >= d.config.update_min_angle) {
+  if (!open && (!d.updated_once || moved.translation().norm() >= d.config.update_min_distance ||
+                turned >= d.config.update_min_angle)) {
     for (size_t k = 0; k < d.pending.size(); ++k) d.pending[k] = d.model_of[k] != nullptr;
     d.odom_at_update = d.scan_odom;
+    d.round_start = stamp;
     d.updated_once = true;
   }
-  if (!d.pending[sensor]) return false;
-  bool done = false;
-  const bool last = std::count(d.pending.begin(), d.pending.end(), uint8_t{1}) == 1;
-  d.run([&] { done = d.update(sensor, stamp, ranges, last); });
+  if (!d.pending[sensor]) return closed;
   d.pending[sensor] = 0;
-  d.est.stamp_ns = stamp;
-  return done;
+  d.run([&] {
+    d.update(sensor, stamp, ranges);
+    if (std::count(d.pending.begin(), d.pending.end(), uint8_t{1}) == 0) d.closeRound(), closed = true;
+  });
+  return closed;
 }
 
 MclEstimate Localizer::estimate() const { return impl_->est; }

@@ -1,5 +1,7 @@
 // The model factory: one place that knows every sibling model by its config name.
 #include <polyloc/mcl/beam_model.hpp>
+#include <polyloc/mcl/likelihood_field.hpp>
+#include <polyloc/mcl/plane_fragments.hpp>
 #include <polyloc/mcl/sensor_model.hpp>
 
 #include <stdexcept>
@@ -7,7 +9,7 @@
 namespace polyloc {
 
 const std::vector<std::string>& sensorModelNames() {
-  static const std::vector<std::string> names = {"beam"};
+  static const std::vector<std::string> names = {"beam", "likelihood_field", "plane_fragments"};
   return names;
 }
 
@@ -15,6 +17,8 @@ std::unique_ptr<SensorModel> makeSensorModel(const std::string& name, const RayC
                                              const Mesh& map, const Rig& rig, const MclConfig& config) {
   (void)map;
   if (name == "beam") return std::make_unique<BeamSensorModel>(caster, rig, config);
+  if (name == "likelihood_field") return std::make_unique<LikelihoodFieldModel>(map, rig, config);
+  if (name == "plane_fragments") return std::make_unique<PlaneFragmentModel>(caster, rig, config);
   std::string known;
   for (const auto& n : sensorModelNames()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown measurement model '" + name + "' (known: " + known + ")");

@@ -300,6 +300,8 @@ void runLocalize(const LocalizeArgs& a) {
                              {"scans_disabled", disabled},
                              {"resamples", c.resamples},
                              {"injected", c.injected},
+                             {"refinements", c.refinements},
+                             {"refinements_refused", c.refinements_refused},
                              {"ground_truth_rejected", truth_file_rejected}};
   if (a.json) {
     nlohmann::json j = {{"input", a.input}, {"format", reader->format()}, {"map", map_file}, {"config", a.config},

@@ -20,7 +20,7 @@ class BeamSensorModel : public SensorModel {
   const char* name() const override { return "beam"; }
   size_t weigh(const ParticleSet& particles, const SensorFrame& frame, std::span<double> loglik) override;
   double unexplainedLogLikelihood(size_t sensor) const override;
-  double logScale() const override { return config_.beam.log_scale; }
+  double logScale() const override { return last_log_scale_; }
 
   // Valid beams of a scan (indices into the sensor's beams), at most max_beams of them (0: all):
   // "uniform" spreads them evenly over the valid ones, "random" draws them without repetition
@@ -37,9 +37,10 @@ class BeamSensorModel : public SensorModel {
   const Rig& rig_;
   const MclConfig& config_;
   std::vector<BeamSet> sensor_beams_;
+  double last_log_scale_ = 1.0;
   // Reused between calls: no allocation once sizes settle.
   BeamSet beams_;
-  std::vector<float> measured_, tmin_, tmax_, hits_;
+  std::vector<float> measured_, tmin_, tmax_, hits_, short_, miss_;
   std::vector<Pose> poses_;
 };
 

@@ -26,6 +26,61 @@ struct BeamModel {
   // < 1 tempers the product so that a spread cloud (global init, symmetric places) keeps its
   // modes instead of collapsing onto the luckiest particle.
   double log_scale = 1.0;
+  // While the filter is not tracking (SensorFrame::coarse): wider and tempered, so that the few
+  // particles of a uniform prior near the truth are not outweighed by a lucky fit elsewhere.
+  double coarse_sigma_hit = 0.2;
+  double coarse_log_scale = 0.1;
+};
+
+// Likelihood-field model (likelihood_field.hpp): each beam endpoint scored by its distance to
+// the nearest map surface, looked up in a 3D distance field built once from the mesh.
+struct LikelihoodField {
+  double sigma_hit = 0.05;     // m: endpoint-to-surface noise (sensor plus map error)
+  double z_hit = 0.9;          // weight of the Gaussian on the distance
+  double z_rand = 0.1;         // weight of the uniform random return (density z_rand / range_max)
+  double resolution = 0.05;    // m: distance field grid; keep <= sigma_hit (interpolation error ~h/2)
+  double max_distance = 1.0;   // m: distances clamp here (far beyond sigma_hit the Gaussian is 0)
+  double log_scale = 1.0;      // tempering, as beam.log_scale
+};
+
+// Plane-fragment model (plane_fragments.hpp): lines fitted per 2D scan, lines of two scan
+// planes that cross combined into surface patches (point + normal), compared with the map.
+struct PlaneFragments {
+  double split_threshold = 0.03;  // m: split a segment where a point lies farther off its chord
+  size_t min_points = 8;          // points of a segment; fewer: noise, not a surface
+  double min_length = 0.2;        // m: shorter segments give poorly defined directions
+  double max_gap = 0.2;           // m between consecutive points: farther apart, a new segment
+  double intersect_tolerance = 0.05;  // m: two segment lines closer than this meet
+  double extent_margin = 0.1;     // m: ... where the meeting point may lie beyond a segment's end
+  double min_angle = 0.349065850398866;  // rad (20 deg): flatter crossings give unstable normals
+  double sigma_distance = 0.05;   // m: fragment point vs map along the ray
+  double sigma_angle = 0.174532925199433;  // rad (10 deg): fragment normal vs map normal
+  double z_hit = 0.9;             // weight of the fragment-explained-by-the-map term
+  double z_rand = 0.1;            // constant floor: clutter, people, map errors
+  double window = 0.3;            // m: rays only look at expected distance +- this
+  double max_age = 0.5;           // s: older segments of the other scanners are not combined
+  size_t max_fragments = 100;     // per frame, spread evenly over the found ones (0: all)
+  double log_scale = 1.0;         // tempering, as beam.log_scale
+};
+
+// Local refinement of the estimate (refine.hpp): point-to-plane Gauss-Newton against the mesh.
+struct RefineConfig {
+  bool enabled = false;              // the Localizer runs refinePose after each update
+  int iterations = 10;               // Gauss-Newton iterations at most (each re-casts)
+  size_t beams_per_scan = 180;       // valid beams per scan, spread evenly (0: all)
+  double max_correspondence = 0.15;  // m: larger |residual| is an outlier, dropped
+  double huber = 0.03;               // m: Huber threshold of the robust weight
+  double min_step = 1e-5;            // m / rad: converged when the step is below this
+  double max_final_step = 1e-3;      // m / rad: the last step when iterations run out, else refused
+  size_t min_correspondences = 20;   // fewer: refused
+  double max_correction = 0.3;       // m: larger corrections are refused (a wrong-mode estimate)
+  double max_correction_yaw = 0.1;   // rad: bound on the rotation angle of the correction
+  // Of the selected beams, at least this fraction must be inliers at the end, else refused. The
+  // gate above keeps far-off starts from travelling far: from 0.2-1 m off they settle where only
+  // some walls agree (40-60% inliers, versus ~100% at the true pose in a mapped room), so this,
+  // not max_correction, is what refuses most wrong-mode estimates.
+  double min_inlier_ratio = 0.7;
+  double cast_margin = 1.0;          // m: rays stop at measured range + this (early traversal exit)
 };
 
 struct MclConfig {
@@ -45,12 +100,16 @@ struct MclConfig {
   std::string subsample = "uniform";  // uniform | random
   double update_min_distance = 0.05;  // m travelled before the next update ...
   double update_min_angle = 0.05;     // ... or rad turned
+  double round_timeout = 0.25;      // s: a round of sensor frames still open after this is closed
   double robot_radius = 0.25;       // particles closer than this to a surface get zero weight
   double body_height = 0.4;         // m above base_link where the clearance above is checked
   double uncertain_xy = 0.3;        // m: position std above this (or a weak dominant cluster)
   double uncertain_yaw = 0.2;       // rad   ... gives status Uncertain
   MotionNoise motion;
   BeamModel beam;
+  RefineConfig refine;
+  LikelihoodField likelihood_field;
+  PlaneFragments plane_fragments;
   uint64_t seed = 1;
   int threads = 0;                  // 0 = all cores
 };

@@ -14,9 +14,9 @@
 
 namespace polyloc {
 
-class FloorModel {
+class FreeFloor {
  public:
-  FloorModel(const RayCaster& caster, const Mesh& map, const MclConfig& config);
+  FreeFloor(const RayCaster& caster, const Mesh& map, const MclConfig& config);
 
   // dof 3: puts each particle on the floor under it (z, roll, pitch from the floor, yaw kept),
   // looking from `step_up` above its base down to `max_drop` below. No floor found: unchanged.

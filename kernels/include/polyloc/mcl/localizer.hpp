@@ -33,6 +33,7 @@ struct MclEstimate {
   double ess = 0;           // effective sample size of the last weighting
   size_t particles = 0;
   uint64_t updates = 0;     // measurement updates so far
+  bool refined = false;     // pose refined against the mesh (mcl.refine) in this round
 };
 
 // Particles, structure of arrays; orientation as unit quaternion, weights in log space.
@@ -52,6 +53,7 @@ struct MclCounters {
   uint64_t weights_collapsed = 0;          // updates where every weight was zero (made uniform)
   uint64_t scans = 0, scans_rejected = 0;  // wrong size, all invalid, unknown sensor, stale
   uint64_t updates = 0, resamples = 0, injected = 0;
+  uint64_t refinements = 0, refinements_refused = 0;  // mcl.refine: accepted, refused
 };
 
 class Localizer {
@@ -66,8 +68,11 @@ class Localizer {
   // one: ignored and counted.
   void addOdometry(int64_t stamp_ns, const Pose& odom_T_base);
   // One frame of rig sensor `sensor` (index into the rig): ranges in the sensor's beam order
-  // (BeamSet of its spec); NaN/inf/out of [range_min, range_max] are invalid beams. Returns true
-  // when it triggered a measurement update.
+  // (BeamSet of its spec); NaN/inf/out of [range_min, range_max] are invalid beams. After enough
+  // motion (update_min_distance / _angle) a round starts in which each sensor's next frame is
+  // weighed; the round ends when every sensor has contributed (or the next round starts), and
+  // only then the particles are resampled and the estimate renewed. Returns true when this call
+  // ended a round: estimate() is new.
   bool addScan(size_t sensor, int64_t stamp_ns, std::span<const float> ranges);
 
   MclEstimate estimate() const;

@@ -25,6 +25,10 @@ struct SensorFrame {
   std::span<const float> ranges;   // the sensor's beam order; NaN, inf, out of range: invalid
   Pose odom_T_base;                // odometry at the stamp: relates frames of different sensors
   uint64_t step = 0;               // update counter: the stream for counter-based random choices
+  // The filter is not tracking (global localisation, lost, after a kidnapping): a sparse cloud
+  // has no particle within a few centimetres of the truth, so models weigh with their wide,
+  // tempered settings (e.g. beam.coarse_sigma_hit) and near misses keep their say.
+  bool coarse = false;
 };
 
 class SensorModel {
@@ -38,7 +42,7 @@ class SensorModel {
   // log of the likelihood per measurement that the non-hit part of the model gives (random
   // returns, unexpected obstacles): a best particle below it explains nothing, the filter is lost.
   virtual double unexplainedLogLikelihood(size_t sensor) const = 0;
-  // The factor weigh() multiplies the summed log-likelihood with (tempering; 1 = none).
+  // The factor the last weigh() multiplied the summed log-likelihood with (tempering; 1 = none).
   virtual double logScale() const = 0;
 };
 
