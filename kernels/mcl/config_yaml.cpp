@@ -76,6 +76,9 @@ MclConfig parseMclConfig(ConfigMap m) {
     rc.max_correction_yaw = r.getAngle("max_correction_yaw", rc.max_correction_yaw);
     rc.min_inlier_ratio = r.getDouble("min_inlier_ratio", rc.min_inlier_ratio, 0, 1);
     rc.cast_margin = r.getDouble("cast_margin", rc.cast_margin, 0, 100);
+    rc.dof = int(r.getInt("dof", rc.dof));
+    rc.depth_cameras = r.getBool("depth_cameras", rc.depth_cameras);
+    if (rc.dof != 0 && rc.dof != 3 && rc.dof != 6) r.value("dof").fail("must be 0 (the filter's), 3 or 6");
     r.finish();
   }
   if (m.has("beam")) {

@@ -98,7 +98,7 @@ std::vector<LineSegment> fitLineSegments(std::span<const float> ranges, const Be
         const size_t i = merged.back().first, j = pc.second;
         const auto span = all.subspan(i, j - i);
         const LineSegment u = fitLine(span);
-        if (maxDistance(span, u) <= prm.split_threshold || u.rms <= prm.split_threshold / 3) {
+        if (maxDistance(span, u) <= prm.split_threshold || u.rms <= prm.split_threshold / 2) {
           merged.back().second = j;
           continue;
         }

@@ -26,7 +26,9 @@ constexpr uint64_t kResampleStream = 0x524553ULL << 40;
 constexpr uint64_t kInjectStream = 0x494E4AULL << 40;
 constexpr uint64_t kInitStream = 0x494E49ULL << 40;
 constexpr int64_t kOdometryGapNs = 1'000'000'000;
-constexpr int64_t kOdomHistoryNs = 2'000'000'000;  // odometry kept for interpolation to scan stamps
+constexpr int64_t kOdomHistoryNs = 2'000'000'000;
+constexpr int64_t kExtrapolateNs = 100'000'000;
+constexpr int64_t kSilentNs = 1'000'000'000;  // a sensor not heard from for this long is not waited for  // odometry kept for interpolation to scan stamps
 
 bool finitePose(const Pose& p) {
   return p.translation().allFinite() && p.rotation().coeffs().allFinite() && p.rotation().norm() > 0.5;
@@ -170,7 +172,7 @@ struct Localizer::Impl {
     // No particle explains the scan better than the non-hit parts of the mixture.
     round_lost += best < model.unexplainedLogLikelihood(sensor);
     ++round_sensors;
-    if (config.refine.enabled) {
+    if (config.refine.enabled && (config.refine.depth_cameras || !std::holds_alternative<DepthCameraSpec>(rig.sensors[sensor].spec))) {
       RoundFrame& f = round_frames[sensor];
       f.ranges.assign(ranges.begin(), ranges.end());
       f.odom = scan_odom;
@@ -179,7 +181,7 @@ struct Localizer::Impl {
     inject_due = std::max(inject_due, injectProbability());
     ++counters.updates;
     est.updates = counters.updates;
-    est.stamp_ns = stamp;
+    round_stamp = stamp;
     return true;
   }
 
@@ -188,6 +190,7 @@ struct Localizer::Impl {
   // so it would never get fresh particles).
   void closeRound() {
     if (round_sensors == 0) return;
+    est.stamp_ns = round_stamp;  // the particles are at the odometry of the last frame weighed
     est.ess = effectiveSampleSize(ps.logw);
     // Lost when most sensors of the round are explained by no particle (one sensor alone may be
     // blinded by a person standing in front of it).
@@ -213,7 +216,7 @@ struct Localizer::Impl {
       f.valid = false;  // the data stays until the next round overwrites it
     }
     if (scans.empty()) return;
-    const RefineResult r = refinePose(caster, rig, scans, est.pose, config.dof, config.refine);
+    const RefineResult r = refinePose(caster, rig, scans, est.pose, config.refine.dof ? config.refine.dof : config.dof, config.refine);
     if (!r.accepted) return void(++counters.refinements_refused);
     est.pose = r.pose;
     est.refined = true;
@@ -247,8 +250,15 @@ struct Localizer::Impl {
   std::deque<std::pair<int64_t, Pose>> odom_history;  // the last kOdomHistoryNs of odometry
 
   // Odometry at time t: scans and odometry come at different rates, and a scanner at 12.5 Hz
-  // lags 50 Hz odometry by up to 20 ms, half a degree at 0.5 rad/s. Not extrapolated.
+  // lags 50 Hz odometry by up to 20 ms, a degree at 0.8 rad/s. A scan newer than the last
+  // odometry (it arrived first) gets the last motion extrapolated, for at most kExtrapolateNs.
   Pose odomAt(int64_t t) const {
+    if (odom_history.size() >= 2 && t > odom_history.back().first) {
+      const auto& [t1, p1] = odom_history.back();
+      const auto& [t0, p0] = odom_history[odom_history.size() - 2];
+      if (t - t1 > kExtrapolateNs || t1 <= t0) return last_odom;
+      return Pose::interpolate(p0, p1, 1.0 + double(t - t1) / double(t1 - t0));
+    }
     if (odom_history.empty() || t >= odom_history.back().first) return last_odom;
     if (t <= odom_history.front().first) return odom_history.front().second;
     auto hi = std::lower_bound(odom_history.begin(), odom_history.end(), t,
@@ -265,7 +275,7 @@ struct Localizer::Impl {
   // The open round: sensors weighed, of them lost, collapsed weightings, largest injection due.
   size_t round_sensors = 0, round_lost = 0, round_collapsed = 0;
   double inject_due = 0;
-  int64_t round_start = 0;
+  int64_t round_start = 0, round_stamp = 0;
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)
@@ -351,7 +361,10 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
   const double turned = std::abs(Eigen::AngleAxisd(moved.rotation()).angle());
   if (!open && (!d.updated_once || moved.translation().norm() >= d.config.update_min_distance ||
                 turned >= d.config.update_min_angle)) {
-    for (size_t k = 0; k < d.pending.size(); ++k) d.pending[k] = d.model_of[k] != nullptr;
+    // Waits for the sensors heard from lately: one that is silent (dropped out, or not recorded)
+    // would hold every round open until round_timeout.
+    for (size_t k = 0; k < d.pending.size(); ++k)
+      d.pending[k] = d.model_of[k] != nullptr && (k == sensor || d.last_scan[k] > stamp - kSilentNs);
     d.odom_at_update = d.scan_odom;
     d.round_start = stamp;
     d.updated_once = true;

@@ -81,6 +81,12 @@ struct RefineConfig {
   // not max_correction, is what refuses most wrong-mode estimates.
   double min_inlier_ratio = 0.7;
   double cast_margin = 1.0;          // m: rays stop at measured range + this (early traversal exit)
+  // Degrees of freedom refined: 0 = the filter's dof; 6 also with dof 3, so that the tilted
+  // scanners' view of the floor corrects z, roll and pitch taken from the floor under the robot.
+  int dof = 0;
+  // Raw ToF frames carry flying pixels and multipath returns that pass the residual gate and
+  // bias the fit (about 0.2 deg of yaw on lab_tour); filtered depth (issue 5) may go in.
+  bool depth_cameras = false;
 };
 
 struct MclConfig {
