@@ -189,6 +189,7 @@ std::vector<TrialResult> runGlobalTrials(const Scenario& s, const Mesh& map, con
       return r.pos_err.size() < o.rounds + o.hold_rounds;
     });
     r.updates = loc.counters().updates;
+    r.injected = loc.counters().injected;
     r.converged_round = convergedRound(r.pos_err, r.yaw_err, o.pos_tol, o.yaw_tol);
     r.converged = r.converged_round > 0 && size_t(r.converged_round) <= o.rounds &&
                   r.pos_err.size() >= o.rounds + o.hold_rounds;
@@ -234,6 +235,7 @@ std::vector<TrialResult> runKidnapTrials(const Scenario& s, const Mesh& map, con
       return r.pos_err.size() < o.rounds + o.hold_rounds;
     });
     r.updates = loc.counters().updates;
+    r.injected = loc.counters().injected;
     r.converged_round = convergedRound(r.pos_err, r.yaw_err, o.pos_tol, o.yaw_tol);
     r.converged = rounds_a >= o.kidnap_after && r.converged_round > 0 && size_t(r.converged_round) <= o.rounds &&
                   r.pos_err.size() >= o.rounds + o.hold_rounds;

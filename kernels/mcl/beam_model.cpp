@@ -65,17 +65,30 @@ double BeamSensorModel::logLikelihood(double z, double e, double range_max, cons
 
 size_t BeamSensorModel::weigh(const ParticleSet& ps, const SensorFrame& frame, std::span<double> loglik) {
   const MclConfig& cfg = config_;
+  const std::vector<size_t> sel = selectBeams(sensor_beams_[frame.sensor], frame.ranges, cfg.beams_per_scan,
+                                              cfg.subsample, cfg.seed, (uint64_t(frame.sensor) << 48) + frame.step);
+  return weighSelected(ps, frame, sel, 0.0, loglik);
+}
+
+size_t BeamSensorModel::weighSelected(const ParticleSet& ps, const SensorFrame& frame, const std::vector<size_t>& sel,
+                                      double sigma_per_m, std::span<double> loglik) {
+  const MclConfig& cfg = config_;
   const Sensor& sensor = rig_.sensors.at(frame.sensor);
   const BeamSet& all = sensor_beams_[frame.sensor];
   const std::span<const float> ranges = frame.ranges;
-  const std::vector<size_t> sel =
-      selectBeams(all, ranges, cfg.beams_per_scan, cfg.subsample, cfg.seed, (uint64_t(frame.sensor) << 48) + frame.step);
   const size_t B = sel.size(), P = ps.size();
   if (B == 0 || P == 0) return 0;
   BeamModel m = cfg.beam;
   if (frame.coarse) m.sigma_hit = m.coarse_sigma_hit, m.log_scale = m.coarse_log_scale;
   last_log_scale_ = m.log_scale;
-  const double w = std::max(m.window_sigmas * m.sigma_hit, m.window_min);
+  // Per beam: sigma grows with range where the sensor's noise does (ToF: about 1% of range).
+  hit_scale_.resize(B), half_inv_var_.resize(B);
+  for (size_t i = 0; i < B; ++i) {
+    const double sr = sigma_per_m * ranges[sel[i]];
+    const double sigma = std::sqrt(m.sigma_hit * m.sigma_hit + sr * sr);
+    hit_scale_[i] = float(m.z_hit / (sigma * 2.5066282746310002));
+    half_inv_var_[i] = float(0.5 / (sigma * sigma));
+  }
   beams_.dx.resize(B), beams_.dy.resize(B), beams_.dz.resize(B);
   beams_.range_min = all.range_min, beams_.range_max = all.range_max;
   measured_.resize(B), tmin_.resize(B), tmax_.resize(B);
@@ -83,6 +96,7 @@ size_t BeamSensorModel::weigh(const ParticleSet& ps, const SensorFrame& frame, s
     const size_t b = sel[i];
     beams_.dx[i] = all.dx[b], beams_.dy[i] = all.dy[b], beams_.dz[i] = all.dz[b];
     measured_[i] = ranges[b];
+    const double w = std::max(m.window_sigmas * std::sqrt(0.5 / half_inv_var_[i]), m.window_min);
     tmin_[i] = std::max<float>(all.range_min, ranges[b] - w);
     tmax_[i] = std::min<float>(all.range_max, ranges[b] + w);
   }
@@ -99,8 +113,6 @@ size_t BeamSensorModel::weigh(const ParticleSet& ps, const SensorFrame& frame, s
   // lies within the window around it), so a beam costs one expf and one logf per particle.
   const double rmax = all.range_max;
   const float p_rand = float(m.z_rand / rmax);
-  const float hit_scale = float(m.z_hit / (m.sigma_hit * 2.5066282746310002));
-  const float half_inv_var = float(0.5 / (m.sigma_hit * m.sigma_hit));
   short_.resize(B), miss_.resize(B);
   for (size_t i = 0; i < B; ++i) {
     const double z = measured_[i];
@@ -119,7 +131,7 @@ size_t BeamSensorModel::weigh(const ParticleSet& ps, const SensorFrame& frame, s
           continue;
         }
         const float d = measured_[i] - h[i];
-        const float dens = hit_scale * std::exp(-half_inv_var * d * d) + (d < 0 ? short_[i] : 0.f) + p_rand;
+        const float dens = hit_scale_[i] * std::exp(-half_inv_var_[i] * d * d) + (d < 0 ? short_[i] : 0.f) + p_rand;
         s += std::log(dens);
       }
       loglik[p] += m.log_scale * s;

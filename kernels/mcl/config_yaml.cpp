@@ -34,6 +34,12 @@ MclConfig parseMclConfig(ConfigMap m) {
   c.resample_ess = m.getDouble("resample_ess", c.resample_ess, 0, 1);
   c.alpha_slow = m.getDouble("alpha_slow", c.alpha_slow, 0, 1);
   c.alpha_fast = m.getDouble("alpha_fast", c.alpha_fast, 0, 1);
+  {
+    const int64_t n = m.getInt("relocalize_rounds", int64_t(c.relocalize_rounds));
+    if (n < 0 || n > 1'000'000) m.value("relocalize_rounds").fail("must be between 0 (off) and 1000000");
+    c.relocalize_rounds = size_t(n);
+  }
+  c.relocalize_threshold = m.getDouble("relocalize_threshold", c.relocalize_threshold, 0, 1);
   c.beams_per_scan = count("beams_per_scan", c.beams_per_scan);
   c.subsample = m.getChoice("subsample", c.subsample, {"uniform"});
   c.update_min_distance = m.getDouble("update_min_distance", c.update_min_distance, 0, kBig);
@@ -57,6 +63,16 @@ MclConfig parseMclConfig(ConfigMap m) {
     mn.roll_pitch_per_m = n.getAngle("roll_pitch_per_m", mn.roll_pitch_per_m);
     mn.omni = n.getChoice("drive", mn.omni ? "omni" : "differential", {"differential", "omni"}) == "omni";
     n.finish();
+  }
+  if (m.has("depth")) {
+    ConfigMap d = m.map("depth");
+    DepthModel& dm = c.depth;
+    const int64_t px = d.getInt("pixels", int64_t(dm.pixels));
+    if (px < 1 || px > 10'000'000) d.value("pixels").fail("must be between 1 and 10000000");
+    dm.pixels = size_t(px);
+    dm.jump_ratio = d.getDouble("jump_ratio", dm.jump_ratio, 1e-4, 100);
+    dm.sigma_per_m = d.getDouble("sigma_per_m", dm.sigma_per_m, 0, 10);
+    d.finish();
   }
   if (m.has("refine")) {
     ConfigMap r = m.map("refine");

@@ -25,6 +25,7 @@ namespace {
 constexpr uint64_t kResampleStream = 0x524553ULL << 40;
 constexpr uint64_t kInjectStream = 0x494E4AULL << 40;
 constexpr uint64_t kInitStream = 0x494E49ULL << 40;
+constexpr uint64_t kRelocStream = 0x524C43ULL << 40;
 constexpr int64_t kOdometryGapNs = 1'000'000'000;
 constexpr int64_t kOdomHistoryNs = 2'000'000'000;
 constexpr int64_t kExtrapolateNs = 100'000'000;
@@ -84,6 +85,7 @@ struct Localizer::Impl {
     updated_once = false;
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
+    low_rounds = rounds_since_reset = 0;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
     odom_at_update = odom_at_predict = scan_odom = odomAt(stamp);
@@ -122,6 +124,13 @@ struct Localizer::Impl {
       for (size_t k = 0; k < fresh.size(); ++k) setParticle(ps, slots[k], fresh[k]);
       counters.injected += fresh.size();
     }
+  }
+
+  // Global particles uniform over the free floor, equal weights.
+  void drawUniform(uint64_t stream) {
+    const std::vector<Pose> poses = floor.sampleFree(config.global_particles, rng, stream);
+    resizeParticles(ps, poses.size());
+    for (size_t i = 0; i < poses.size(); ++i) setParticle(ps, i, poses[i]), ps.logw[i] = -std::log(double(poses.size()));
   }
 
   // Of the sensor weighed last: each sensor has its own likelihood level (a tilted scanner on
@@ -163,9 +172,13 @@ struct Localizer::Impl {
     current = sensor;
     double& slow = w_slow[sensor];
     double& fast = w_fast[sensor];
-    if (slow == 0) slow = fast = w_avg;
-    slow += config.alpha_slow * (w_avg - slow);
-    fast += config.alpha_fast * (w_avg - fast);
+    // Only fine (tracking) weightings feed the averages: a coarse one has another likelihood
+    // level, and mixing them would read as a kidnapping each time the filter turns uncertain.
+    if (!frame.coarse) {
+      if (slow == 0) slow = fast = w_avg;
+      slow += config.alpha_slow * (w_avg - slow);
+      fast += config.alpha_fast * (w_avg - fast);
+    }
 
     counters.particles_blocked += floor.zeroBlocked(ps);
     if (!normalizeLogWeights(ps.logw)) ++counters.weights_collapsed, ++round_collapsed;
@@ -197,7 +210,24 @@ struct Localizer::Impl {
     const bool lost = round_collapsed > 0 || 2 * round_lost > round_sensors;
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
     if (config.refine.enabled) refineEstimate();
-    if (est.ess < config.resample_ess * double(ps.size()) || inject_due > 0.05) resample();
+    // Sensor resetting: the short-term likelihood has stayed far below the long-term one for
+    // relocalize_rounds rounds, or the filter has not been tracking as long (kidnapped, tracking
+    // a wrong place, a global localisation that found nothing). Injection alone draws too
+    // few particles near the truth in a building-sized map; a fresh uniform prior does not.
+    // Not tracking counts too: a coarse weighting does not feed the averages.
+    const bool low = inject_due >= config.relocalize_threshold || est.status != MclStatus::Tracking;
+    low_rounds = low ? low_rounds + 1 : 0;
+    ++rounds_since_reset;
+    if (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
+        rounds_since_reset > 2 * config.relocalize_rounds) {
+      drawUniform(kRelocStream + step);
+      w_fast = w_slow;  // no injection into the fresh prior until tracking weighs again
+      ++counters.relocalizations;
+      low_rounds = rounds_since_reset = 0;
+      refreshEstimate(MclStatus::Lost);
+    } else if (est.ess < config.resample_ess * double(ps.size()) || inject_due > 0.05) {
+      resample();
+    }
     est.particles = ps.size();
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
@@ -276,6 +306,7 @@ struct Localizer::Impl {
   size_t round_sensors = 0, round_lost = 0, round_collapsed = 0;
   double inject_due = 0;
   int64_t round_start = 0, round_stamp = 0;
+  size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)
@@ -310,9 +341,7 @@ void Localizer::initPose(const Pose& pose, const Eigen::Matrix<double, 6, 6>& co
 void Localizer::initGlobal(int64_t stamp) {
   Impl& d = *impl_;
   d.run([&] {
-    const std::vector<Pose> poses = d.floor.sampleFree(d.config.global_particles, d.rng, kInitStream + uint64_t(stamp));
-    resizeParticles(d.ps, poses.size());
-    for (size_t i = 0; i < poses.size(); ++i) setParticle(d.ps, i, poses[i]), d.ps.logw[i] = -std::log(double(poses.size()));
+    d.drawUniform(kInitStream + uint64_t(stamp));
     d.reset(stamp);
   });
 }

@@ -62,7 +62,8 @@ void runEval(const EvalArgs& a, bool kidnap) {
                     {"converged_round", t.converged_round},
                     {"final_pos_err_m", t.pos_err.empty() ? -1.0 : t.pos_err.back()},
                     {"final_yaw_err_deg", t.yaw_err.empty() ? -1.0 : rad2deg(t.yaw_err.back())},
-                    {"rounds", t.pos_err.size()}});
+                    {"rounds", t.pos_err.size()},
+                    {"injected", t.injected}});
   }
   std::sort(rounds.begin(), rounds.end());
   const double frac = r.empty() ? 0.0 : double(ok) / double(r.size());

@@ -39,6 +39,7 @@ struct TrialResult {
   bool converged = false;          // converged_round <= rounds and held for hold_rounds
   double filter_s = 0;             // time spent in the Localizer
   uint64_t updates = 0;            // sensor updates weighed
+  uint64_t injected = 0;           // particles injected by augmented MCL
 };
 
 using TrialProgress = std::function<void(size_t done, size_t total)>;

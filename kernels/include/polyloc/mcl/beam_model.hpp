@@ -29,18 +29,26 @@ class BeamSensorModel : public SensorModel {
                                          size_t max_beams, const std::string& strategy = "uniform",
                                          uint64_t seed = 0, uint64_t stream = 0);
 
+  // Weighs the beams `sel` (indices into the sensor's beams) of the frame; sigma_hit grows by
+  // sigma_per_m per metre of measured range (added in quadrature). For siblings that choose
+  // beams their own way (depth_model.hpp).
+  size_t weighSelected(const ParticleSet& particles, const SensorFrame& frame, const std::vector<size_t>& sel,
+                       double sigma_per_m, std::span<double> loglik);
+
   // log p(measured | expected), expected = +inf when outside the window.
   static double logLikelihood(double measured, double expected, double range_max, const BeamModel& m);
 
- private:
+ protected:
   const RayCaster& caster_;
   const Rig& rig_;
   const MclConfig& config_;
   std::vector<BeamSet> sensor_beams_;
   double last_log_scale_ = 1.0;
+
+ private:
   // Reused between calls: no allocation once sizes settle.
   BeamSet beams_;
-  std::vector<float> measured_, tmin_, tmax_, hits_, short_, miss_;
+  std::vector<float> measured_, tmin_, tmax_, hits_, short_, miss_, hit_scale_, half_inv_var_;
   std::vector<Pose> poses_;
 };
 

@@ -89,10 +89,17 @@ struct RefineConfig {
   bool depth_cameras = false;
 };
 
+// Depth-camera model (depth_model.hpp): the beam mixture over a pixel grid.
+struct DepthModel {
+  size_t pixels = 80;          // valid pixels per frame, about (grid stride chosen to match)
+  double jump_ratio = 0.05;    // a range step to a grid neighbour above this fraction: flying pixel
+  double sigma_per_m = 0.01;   // hit noise added per metre of range (in quadrature to beam.sigma_hit)
+};
+
 struct MclConfig {
   int dof = 3;                      // 3: x, y, yaw on the floor; 6: full pose
   std::string model = "beam";       // scanners, lidar: beam | likelihood_field | plane_fragments
-  std::string depth_model = "beam"; // depth cameras: beam | likelihood_field | depth | none
+  std::string depth_model = "depth"; // depth cameras: depth | beam | likelihood_field | none
   size_t particles = 2000;          // initial count (tracking)
   size_t min_particles = 500;       // KLD-sampling bounds
   size_t max_particles = 20000;
@@ -102,6 +109,10 @@ struct MclConfig {
   double kld_bin_xy = 0.2, kld_bin_yaw = 0.175;  // m, rad (10 deg)
   double resample_ess = 0.5;        // resample when ESS / N drops below this
   double alpha_slow = 0.001, alpha_fast = 0.1;  // augmented MCL (0 disables injection)
+  // Sensor resetting: after this many rounds in a row with an injection probability of at least
+  // relocalize_threshold, the filter starts over from a uniform prior (0 disables).
+  size_t relocalize_rounds = 8;
+  double relocalize_threshold = 0.3;
   size_t beams_per_scan = 60;       // per sensor per update
   std::string subsample = "uniform";  // uniform | random
   double update_min_distance = 0.05;  // m travelled before the next update ...
@@ -114,6 +125,7 @@ struct MclConfig {
   MotionNoise motion;
   BeamModel beam;
   RefineConfig refine;
+  DepthModel depth;
   LikelihoodField likelihood_field;
   PlaneFragments plane_fragments;
   uint64_t seed = 1;

@@ -53,6 +53,7 @@ struct MclCounters {
   uint64_t weights_collapsed = 0;          // updates where every weight was zero (made uniform)
   uint64_t scans = 0, scans_rejected = 0;  // wrong size, all invalid, unknown sensor, stale
   uint64_t updates = 0, resamples = 0, injected = 0;
+  uint64_t relocalizations = 0;  // global re-initialisations after a kidnapping (relocalize_rounds)
   uint64_t refinements = 0, refinements_refused = 0;  // mcl.refine: accepted, refused
 };
 
