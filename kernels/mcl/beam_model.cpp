@@ -120,6 +120,21 @@ size_t BeamSensorModel::weighSelected(const ParticleSet& ps, const SensorFrame& 
     short_[i] = float(dens / std::max(1e-6, 1.0 - std::exp(-m.lambda_short * z)));
     miss_[i] = float(logLikelihood(z, std::numeric_limits<double>::infinity(), rmax, m));
   }
+  // With one sigma for all beams (no range-dependent noise) the hit density is tabulated over
+  // |d| in [0, window]: a lookup replaces expf, and for d >= 0 (no short term) also logf.
+  const bool table = sigma_per_m == 0 && B > 0;
+  double w_max = 0;
+  for (size_t i = 0; i < B; ++i) w_max = std::max(w_max, double(std::max(tmax_[i] - measured_[i], measured_[i] - tmin_[i])));
+  constexpr size_t kTable = 2048;
+  const float step = float(w_max / double(kTable - 2)), inv_step = step > 0 ? 1.f / step : 0.f;
+  if (table) {
+    hit_table_.resize(kTable), log_table_.resize(kTable);
+    for (size_t k = 0; k < kTable; ++k) {
+      const float d = float(k) * step;
+      hit_table_[k] = hit_scale_[0] * std::exp(-half_inv_var_[0] * d * d);
+      log_table_[k] = std::log(hit_table_[k] + p_rand);
+    }
+  }
   // Per particle, a sequential sum over its beams: the same for any split over threads.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t p = r.begin(); p < r.end(); ++p) {
@@ -131,6 +146,14 @@ size_t BeamSensorModel::weighSelected(const ParticleSet& ps, const SensorFrame& 
           continue;
         }
         const float d = measured_[i] - h[i];
+        if (table) {
+          const float x = std::abs(d) * inv_step;
+          const size_t k = std::min(size_t(x), kTable - 2);
+          const float f = std::min(x - float(k), 1.f);
+          if (d >= 0) s += log_table_[k] + f * (log_table_[k + 1] - log_table_[k]);
+          else s += std::log(hit_table_[k] + f * (hit_table_[k + 1] - hit_table_[k]) + short_[i] + p_rand);
+          continue;
+        }
         const float dens = hit_scale_[i] * std::exp(-half_inv_var_[i] * d * d) + (d < 0 ? short_[i] : 0.f) + p_rand;
         s += std::log(dens);
       }

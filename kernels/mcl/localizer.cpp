@@ -85,6 +85,7 @@ struct Localizer::Impl {
     updated_once = false;
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
+    reset_due = 1;
     low_rounds = rounds_since_reset = 0;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
@@ -192,6 +193,7 @@ struct Localizer::Impl {
       f.valid = true;
     }
     inject_due = std::max(inject_due, injectProbability());
+    reset_due = std::min(reset_due, injectProbability());
     ++counters.updates;
     est.updates = counters.updates;
     round_stamp = stamp;
@@ -211,11 +213,14 @@ struct Localizer::Impl {
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
     if (config.refine.enabled) refineEstimate();
     // Sensor resetting: the short-term likelihood has stayed far below the long-term one for
-    // relocalize_rounds rounds, or the filter has not been tracking as long (kidnapped, tracking
-    // a wrong place, a global localisation that found nothing). Injection alone draws too
+    // relocalize_rounds rounds, or the filter has been lost as long (kidnapped, tracking a wrong
+    // place). Injection alone draws too
     // few particles near the truth in a building-sized map; a fresh uniform prior does not.
-    // Not tracking counts too: a coarse weighting does not feed the averages.
-    const bool low = inject_due >= config.relocalize_threshold || est.status != MclStatus::Tracking;
+    // Lost counts too: a coarse weighting does not feed the averages. Uncertain does not: people
+    // around the robot make it uncertain for a while, and a reset then would lose a good track.
+    // Every sensor of the round must agree: one blinded by a person or looking through glass
+    // drops on its own while the track is fine.
+    const bool low = reset_due >= config.relocalize_threshold || est.status == MclStatus::Lost;
     low_rounds = low ? low_rounds + 1 : 0;
     ++rounds_since_reset;
     if (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
@@ -231,6 +236,7 @@ struct Localizer::Impl {
     est.particles = ps.size();
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
+    reset_due = 1;
   }
 
   // The estimate refined against the mesh with the round's frames (refine.hpp), while tracking:
@@ -305,6 +311,7 @@ struct Localizer::Impl {
   // The open round: sensors weighed, of them lost, collapsed weightings, largest injection due.
   size_t round_sensors = 0, round_lost = 0, round_collapsed = 0;
   double inject_due = 0;
+  double reset_due = 1;  // smallest injection probability of the round's sensors
   int64_t round_start = 0, round_stamp = 0;
   size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
 };

@@ -48,7 +48,7 @@ class BeamSensorModel : public SensorModel {
  private:
   // Reused between calls: no allocation once sizes settle.
   BeamSet beams_;
-  std::vector<float> measured_, tmin_, tmax_, hits_, short_, miss_, hit_scale_, half_inv_var_;
+  std::vector<float> measured_, tmin_, tmax_, hits_, short_, miss_, hit_scale_, half_inv_var_, hit_table_, log_table_;
   std::vector<Pose> poses_;
 };
 

@@ -21,7 +21,7 @@ struct BeamModel {
   double z_hit = 0.85, z_short = 0.05, z_max = 0.05, z_rand = 0.05;
   double lambda_short = 1.0;   // 1/m
   double window_sigmas = 4.0;  // rays only look at measured range +- this many sigma_hit ...
-  double window_min = 0.3;     // ... but at least +- this (m), so a short hit is still seen
+  double window_min = 0.2;     // ... but at least +- this (m), so a short hit is still seen
   // Multiplies a scan's summed log-likelihood. Beams are not independent (map error, people):
   // < 1 tempers the product so that a spread cloud (global init, symmetric places) keeps its
   // modes instead of collapsing onto the luckiest particle.
@@ -110,9 +110,10 @@ struct MclConfig {
   double resample_ess = 0.5;        // resample when ESS / N drops below this
   double alpha_slow = 0.001, alpha_fast = 0.1;  // augmented MCL (0 disables injection)
   // Sensor resetting: after this many rounds in a row with an injection probability of at least
-  // relocalize_threshold, the filter starts over from a uniform prior (0 disables).
-  size_t relocalize_rounds = 8;
-  double relocalize_threshold = 0.3;
+  // relocalize_threshold (0.5 at most: w_fast half of w_slow), or with status lost, the filter
+  // starts over from a uniform prior of global_particles (0 disables).
+  size_t relocalize_rounds = 10;
+  double relocalize_threshold = 0.45;
   size_t beams_per_scan = 60;       // per sensor per update
   std::string subsample = "uniform";  // uniform | random
   double update_min_distance = 0.05;  // m travelled before the next update ...
