@@ -35,6 +35,11 @@ MclConfig parseMclConfig(ConfigMap m) {
   c.alpha_slow = m.getDouble("alpha_slow", c.alpha_slow, 0, 1);
   c.alpha_fast = m.getDouble("alpha_fast", c.alpha_fast, 0, 1);
   {
+    const int64_t n = m.getInt("global_coarse_rounds", int64_t(c.global_coarse_rounds));
+    if (n < 0 || n > 1'000'000) m.value("global_coarse_rounds").fail("must be between 0 and 1000000");
+    c.global_coarse_rounds = size_t(n);
+  }
+  {
     const int64_t n = m.getInt("relocalize_rounds", int64_t(c.relocalize_rounds));
     if (n < 0 || n > 1'000'000) m.value("relocalize_rounds").fail("must be between 0 (off) and 1000000");
     c.relocalize_rounds = size_t(n);

@@ -87,6 +87,7 @@ struct Localizer::Impl {
     inject_due = 0;
     reset_due = 1;
     low_rounds = rounds_since_reset = 0;
+    coarse_left = 0;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
     odom_at_update = odom_at_predict = scan_odom = odomAt(stamp);
@@ -157,7 +158,8 @@ struct Localizer::Impl {
     if (config.dof == 3) floor.snapToFloor(ps);
     loglik.assign(ps.size(), 0.0);
     SensorModel& model = *model_of[sensor];
-    const SensorFrame frame{sensor, stamp, ranges, scan_odom, step, est.status != MclStatus::Tracking};
+    const bool coarse = est.status != MclStatus::Tracking || coarse_left > 0;
+    const SensorFrame frame{sensor, stamp, ranges, scan_odom, step, coarse};
     const size_t used = model.weigh(ps, frame, loglik);
     if (used == 0) return false;
     // Mean per-beam likelihood (geometric) of the particles: for augmented MCL and "lost".
@@ -206,6 +208,7 @@ struct Localizer::Impl {
   void closeRound() {
     if (round_sensors == 0) return;
     est.stamp_ns = round_stamp;  // the particles are at the odometry of the last frame weighed
+    if (coarse_left > 0) --coarse_left;
     est.ess = effectiveSampleSize(ps.logw);
     // Lost when most sensors of the round are explained by no particle (one sensor alone may be
     // blinded by a person standing in front of it).
@@ -226,6 +229,7 @@ struct Localizer::Impl {
     if (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
         rounds_since_reset > 2 * config.relocalize_rounds) {
       drawUniform(kRelocStream + step);
+      coarse_left = config.global_coarse_rounds;
       w_fast = w_slow;  // no injection into the fresh prior until tracking weighs again
       ++counters.relocalizations;
       low_rounds = rounds_since_reset = 0;
@@ -314,6 +318,7 @@ struct Localizer::Impl {
   double reset_due = 1;  // smallest injection probability of the round's sensors
   int64_t round_start = 0, round_stamp = 0;
   size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
+  size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)
@@ -350,6 +355,7 @@ void Localizer::initGlobal(int64_t stamp) {
   d.run([&] {
     d.drawUniform(kInitStream + uint64_t(stamp));
     d.reset(stamp);
+    d.coarse_left = d.config.global_coarse_rounds;
   });
 }
 

@@ -112,6 +112,9 @@ struct MclConfig {
   // Sensor resetting: after this many rounds in a row with an injection probability of at least
   // relocalize_threshold (0.5 at most: w_fast half of w_slow), or with status lost, the filter
   // starts over from a uniform prior of global_particles (0 disables).
+  // After a uniform prior, this many rounds are weighed coarse even when one cluster already
+  // dominates: the robot moves and sees more before the filter commits to one place.
+  size_t global_coarse_rounds = 5;
   size_t relocalize_rounds = 10;
   double relocalize_threshold = 0.45;
   size_t beams_per_scan = 60;       // per sensor per update
