@@ -63,6 +63,27 @@ size_t FreeFloor::zeroBlocked(ParticleSet& s) const {
   return blocked;
 }
 
+std::vector<uint8_t> FreeFloor::enclosed(const std::vector<Eigen::Vector3f>& points,
+                                         const std::vector<size_t>& which) const {
+  constexpr int kDirs = 8;
+  const size_t m = which.size() * kDirs;
+  std::vector<float> ox(m), oy(m), oz(m), dx(m), dy(m), dz(m, 0.f), r(m);
+  for (size_t k = 0; k < which.size(); ++k)
+    for (int j = 0; j < kDirs; ++j) {
+      const size_t i = k * kDirs + size_t(j);
+      const Eigen::Vector3f& p = points[which[k]];
+      ox[i] = p.x(), oy[i] = p.y(), oz[i] = p.z();
+      dx[i] = float(std::cos(2 * M_PI * j / kDirs)), dy[i] = float(std::sin(2 * M_PI * j / kDirs));
+    }
+  HitBuffers hb;
+  hb.range = r.data();
+  caster_.castRays(RayBatch{ox.data(), oy.data(), oz.data(), dx.data(), dy.data(), dz.data(), nullptr, nullptr, m}, hb);
+  std::vector<uint8_t> inside(which.size(), 1);
+  for (size_t i = 0; i < m; ++i)
+    if (!std::isfinite(r[i])) inside[i / kDirs] = 0;
+  return inside;
+}
+
 std::vector<Pose> FreeFloor::sampleFree(size_t n, const CounterRng& rng, uint64_t stream) const {
   std::vector<Pose> out;
   if (bounds_.isEmpty() || n == 0) return out;
@@ -94,8 +115,15 @@ std::vector<Pose> FreeFloor::sampleFree(size_t n, const CounterRng& rng, uint64_
       if (!floor) r[c] = -1.f;
     }
     caster_.queryFree(body, float(config_.robot_radius), free.data());
-    for (size_t c = 0; c < batch && out.size() < n; ++c) {
-      if (r[c] < 0.f || !free[c]) continue;
+    // Inside the building: a floor slab or a ground plane reaching beyond the outer walls is
+    // floor too, but a robot standing there would see no wall in some direction.
+    std::vector<size_t> cand;
+    for (size_t c = 0; c < batch; ++c)
+      if (r[c] >= 0.f && free[c]) cand.push_back(c);
+    const std::vector<uint8_t> inside = enclosed(body, cand);
+    for (size_t k = 0; k < cand.size() && out.size() < n; ++k) {
+      const size_t c = cand[k];
+      if (!inside[k]) continue;
       const Eigen::Vector3d t(ox[c], oy[c], double(oz[c]) - r[c]);
       out.emplace_back(onFloor(Eigen::Vector3d(nx[c], ny[c], nz[c]).normalized(), yaw[c]), t);
     }

@@ -1,7 +1,9 @@
 // Where a robot can stand: the floor under a point (a ray cast down), free space around the body
 // (queryFree with the robot radius at body height), and uniform sampling of such poses for
 // global localisation. Where the map labels triangles "floor" (or "ramp"), only those count as
-// floor, so table tops and shelf boards are not taken for floor.
+// floor, so table tops and shelf boards are not taken for floor. Sampled poses must also be
+// enclosed (a wall in each of 8 horizontal directions), so a floor slab reaching beyond the outer
+// walls does not put particles outside the building.
 #pragma once
 
 #include <polyloc/geometry/random.hpp>
@@ -30,6 +32,8 @@ class FreeFloor {
 
  private:
   bool isFloorLabel(uint32_t label) const;
+  // Per points[which[k]]: 1 when rays in 8 horizontal directions all hit the map (inside).
+  std::vector<uint8_t> enclosed(const std::vector<Eigen::Vector3f>& points, const std::vector<size_t>& which) const;
   const RayCaster& caster_;
   const MclConfig& config_;
   Eigen::AlignedBox3f bounds_;
