@@ -131,6 +131,16 @@ size_t feed(Localizer& loc, const Drive& d, size_t from, const Pose& odom_offset
 
 double yawDiff(const Pose& a, const Pose& b) { return std::abs(std::remainder(a.yaw() - b.yaw(), 2 * M_PI)); }
 
+// The error of a round's estimate against the drive's ground truth (its stamps shifted by dt).
+// False once the trial has its rounds.
+bool recordRound(TrialResult& r, const GroundTruth& gt, const MclEstimate& e, int64_t dt, const TrialOptions& o) {
+  const auto t = gt.at(e.stamp_ns - dt);
+  if (!t) return true;
+  r.pos_err.push_back((e.pose.translation() - t->translation()).head<2>().norm());
+  r.yaw_err.push_back(yawDiff(e.pose, *t));
+  return r.pos_err.size() < o.rounds + o.hold_rounds;
+}
+
 struct TrialSetup {
   EmbreeCaster caster;
   FreeFloor floor;
@@ -181,13 +191,7 @@ std::vector<TrialResult> runGlobalTrials(const Scenario& s, const Mesh& map, con
     r.index = k, r.start = d.start;
     Localizer loc(setup.caster, map, s.config.rig, mcl);
     loc.initGlobal(d.events.front().stamp);
-    feed(loc, d, 0, Pose(), 0, r.filter_s, [&](const MclEstimate& e) {
-      const auto t = gt.at(e.stamp_ns);
-      if (!t) return true;
-      r.pos_err.push_back((e.pose.translation() - t->translation()).head<2>().norm());
-      r.yaw_err.push_back(yawDiff(e.pose, *t));
-      return r.pos_err.size() < o.rounds + o.hold_rounds;
-    });
+    feed(loc, d, 0, Pose(), 0, r.filter_s, [&](const MclEstimate& e) { return recordRound(r, gt, e, 0, o); });
     r.updates = loc.counters().updates;
     r.injected = loc.counters().injected;
     r.converged_round = convergedRound(r.pos_err, r.yaw_err, o.pos_tol, o.yaw_tol);
@@ -227,13 +231,7 @@ std::vector<TrialResult> runKidnapTrials(const Scenario& s, const Mesh& map, con
     const Pose offset = odom_a * odom_b0.inverse();
     const int64_t dt = t_a + 20'000'000 - b.events.front().stamp;
     const GroundTruth gt(b.truth);
-    feed(loc, b, 0, offset, dt, r.filter_s, [&](const MclEstimate& e) {
-      const auto t = gt.at(e.stamp_ns - dt);
-      if (!t) return true;
-      r.pos_err.push_back((e.pose.translation() - t->translation()).head<2>().norm());
-      r.yaw_err.push_back(yawDiff(e.pose, *t));
-      return r.pos_err.size() < o.rounds + o.hold_rounds;
-    });
+    feed(loc, b, 0, offset, dt, r.filter_s, [&](const MclEstimate& e) { return recordRound(r, gt, e, dt, o); });
     r.updates = loc.counters().updates;
     r.injected = loc.counters().injected;
     r.converged_round = convergedRound(r.pos_err, r.yaw_err, o.pos_tol, o.yaw_tol);
