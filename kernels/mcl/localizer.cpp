@@ -85,7 +85,7 @@ struct Localizer::Impl {
     updated_once = false;
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
-    reset_due = 1;
+    round_low = 0;
     low_rounds = rounds_since_reset = 0;
     coarse_left = 0;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
@@ -195,7 +195,7 @@ struct Localizer::Impl {
       f.valid = true;
     }
     inject_due = std::max(inject_due, injectProbability());
-    reset_due = std::min(reset_due, injectProbability());
+    round_low += injectProbability() >= config.relocalize_threshold;
     ++counters.updates;
     est.updates = counters.updates;
     round_stamp = stamp;
@@ -215,15 +215,15 @@ struct Localizer::Impl {
     const bool lost = round_collapsed > 0 || 2 * round_lost > round_sensors;
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
     if (config.refine.enabled) refineEstimate();
-    // Sensor resetting: the short-term likelihood has stayed far below the long-term one for
-    // relocalize_rounds rounds, or the filter has been lost as long (kidnapped, tracking a wrong
-    // place). Injection alone draws too
-    // few particles near the truth in a building-sized map; a fresh uniform prior does not.
-    // Lost counts too: a coarse weighting does not feed the averages. Uncertain does not: people
-    // around the robot make it uncertain for a while, and a reset then would lose a good track.
-    // Every sensor of the round must agree: one blinded by a person or looking through glass
-    // drops on its own while the track is fine.
-    const bool low = reset_due >= config.relocalize_threshold || est.status == MclStatus::Lost;
+    // Sensor resetting: for relocalize_rounds rounds the short-term likelihood has stayed far
+    // below the long-term one, or the filter has been lost (kidnapped, tracking a wrong place).
+    // Injection alone draws too few particles near the truth in a building-sized map; a fresh
+    // uniform prior does not. A third of the round's sensors (at least two, or the only one)
+    // must have dropped: one blinded by a person drops on its own while the track is fine, and
+    // scanners tilted onto flat floor fit anywhere, so they never drop. Uncertain does not count:
+    // people around the robot make it uncertain for a while.
+    const size_t needed = std::max<size_t>(std::min<size_t>(2, round_sensors), (round_sensors + 2) / 3);
+    const bool low = round_low >= needed || est.status == MclStatus::Lost;
     low_rounds = low ? low_rounds + 1 : 0;
     ++rounds_since_reset;
     if (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
@@ -240,7 +240,7 @@ struct Localizer::Impl {
     est.particles = ps.size();
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
-    reset_due = 1;
+    round_low = 0;
   }
 
   // The estimate refined against the mesh with the round's frames (refine.hpp), while tracking:
@@ -315,7 +315,7 @@ struct Localizer::Impl {
   // The open round: sensors weighed, of them lost, collapsed weightings, largest injection due.
   size_t round_sensors = 0, round_lost = 0, round_collapsed = 0;
   double inject_due = 0;
-  double reset_due = 1;  // smallest injection probability of the round's sensors
+  size_t round_low = 0;  // sensors of the round whose injection probability reached relocalize_threshold
   int64_t round_start = 0, round_stamp = 0;
   size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
   size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior

@@ -115,7 +115,7 @@ struct MclConfig {
   // After a uniform prior, this many rounds are weighed coarse even when one cluster already
   // dominates: the robot moves and sees more before the filter commits to one place.
   size_t global_coarse_rounds = 5;
-  size_t relocalize_rounds = 10;
+  size_t relocalize_rounds = 5;
   double relocalize_threshold = 0.45;
   size_t beams_per_scan = 60;       // per sensor per update
   std::string subsample = "uniform";  // uniform | random
