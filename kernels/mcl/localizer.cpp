@@ -223,7 +223,9 @@ struct Localizer::Impl {
     // scanners tilted onto flat floor fit anywhere, so they never drop. Uncertain does not count:
     // people around the robot make it uncertain for a while.
     const size_t needed = std::max<size_t>(std::min<size_t>(2, round_sensors), (round_sensors + 2) / 3);
-    const bool low = round_low >= needed || est.status == MclStatus::Lost;
+    // Lost by the fit only: all particles blocked (a robot closer to a wall than robot_radius)
+    // collapses the weights too, but says nothing about where the robot is.
+    const bool low = round_low >= needed || 2 * round_lost > round_sensors;
     low_rounds = low ? low_rounds + 1 : 0;
     ++rounds_since_reset;
     if (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
