@@ -9,6 +9,7 @@
 #include <polyloc/raycast/embree.hpp>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace polyloc::test {
@@ -78,6 +79,38 @@ inline void drive(Localizer& loc, const RayCaster& caster, const Rig& rig, const
     loc.addScan(0, t, r);
   }
 }
+
+// Particles at the given poses, equal log-weights (for weighing a model at chosen poses).
+inline ParticleSet particlesAt(const std::vector<Pose>& poses) {
+  ParticleSet ps;
+  for (const Pose& p : poses) {
+    const Eigen::Quaterniond& q = p.rotation();
+    ps.x.push_back(p.x()), ps.y.push_back(p.y()), ps.z.push_back(p.z());
+    ps.qw.push_back(q.w()), ps.qx.push_back(q.x()), ps.qy.push_back(q.y()), ps.qz.push_back(q.z());
+    ps.logw.push_back(0.0);
+  }
+  return ps;
+}
+
+// The particles after a short loop in the asymmetric room with measurement model `model` on
+// `threads` threads: for the checks that results do not depend on the thread count.
+inline ParticleSet runWithThreads(int threads, const std::string& model = "beam") {
+  const Mesh mesh = asymmetricRoom();
+  EmbreeOptions opt;
+  opt.threads = threads;
+  EmbreeCaster caster(mesh, opt);
+  const Rig rig = scannerRig();
+  MclConfig cfg;
+  cfg.model = model;
+  cfg.particles = 800;
+  cfg.threads = threads;
+  Localizer loc(caster, mesh, rig, cfg);
+  const auto truth = loopTrajectory(20);
+  loc.initPose(truth[0], planarCov(0.3, 0.2), 0);
+  drive(loc, caster, rig, truth);
+  return loc.particles();
+}
+
 
 inline double posErr(const Pose& a, const Pose& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
 inline double yawErrDeg(const Pose& a, const Pose& b) { return std::abs(rad2deg(angleDiff(a.yaw(), b.yaw()))); }

@@ -13,21 +13,6 @@
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
-
-ParticleSet particlesAt(const std::vector<Pose>& poses) {
-  ParticleSet ps;
-  for (const Pose& p : poses) {
-    const Eigen::Quaterniond& q = p.rotation();
-    ps.x.push_back(p.x()), ps.y.push_back(p.y()), ps.z.push_back(p.z());
-    ps.qw.push_back(q.w()), ps.qx.push_back(q.x()), ps.qy.push_back(q.y()), ps.qz.push_back(q.z());
-    ps.logw.push_back(0.0);
-  }
-  return ps;
-}
-
-}  // namespace
-
 TEST(MclLikelihoodField, PeaksAtTheTruePose) {
   const Mesh mesh = asymmetricRoom();
   EmbreeCaster caster(mesh);
@@ -103,27 +88,8 @@ TEST(MclLikelihoodField, LocalizerConvergesFromPerturbedPose) {
   EXPECT_EQ(loc.counters().scans_rejected, 0u);
 }
 
-namespace {
-ParticleSet runWithThreads(int threads) {
-  const Mesh mesh = asymmetricRoom();
-  EmbreeOptions opt;
-  opt.threads = threads;
-  EmbreeCaster caster(mesh, opt);
-  const Rig rig = scannerRig();
-  MclConfig cfg;
-  cfg.model = "likelihood_field";
-  cfg.particles = 800;
-  cfg.threads = threads;
-  Localizer loc(caster, mesh, rig, cfg);
-  const auto truth = loopTrajectory(20);
-  loc.initPose(truth[0], planarCov(0.3, 0.2), 0);
-  drive(loc, caster, rig, truth);
-  return loc.particles();
-}
-}  // namespace
-
 TEST(MclLikelihoodField, SameResultForOneAndTwoThreads) {
-  const ParticleSet a = runWithThreads(1), b = runWithThreads(2);
+  const ParticleSet a = runWithThreads(1, "likelihood_field"), b = runWithThreads(2, "likelihood_field");
   ASSERT_EQ(a.size(), b.size());
   ASSERT_GT(a.size(), 0u);
   for (size_t i = 0; i < a.size(); ++i) {

@@ -32,16 +32,6 @@ Rig fragmentRig() {
   return rig;
 }
 
-ParticleSet particlesAt(const std::vector<Pose>& poses) {
-  ParticleSet ps;
-  for (const Pose& p : poses) {
-    const Eigen::Quaterniond& q = p.rotation();
-    ps.x.push_back(p.x()), ps.y.push_back(p.y()), ps.z.push_back(p.z());
-    ps.qw.push_back(q.w()), ps.qx.push_back(q.x()), ps.qy.push_back(q.y()), ps.qz.push_back(q.z());
-    ps.logw.push_back(0);
-  }
-  return ps;
-}
 
 // The box room's plane nearest to p (walls at x = +-hx, y = +-hy, floor, ceiling): distance, normal.
 std::pair<double, Eigen::Vector3d> nearestPlane(const Eigen::Vector3d& p, double hx, double hy, double h) {

@@ -64,24 +64,6 @@ TEST(MclTracking, SixDofConverges) {
   EXPECT_LT(std::abs(rad2deg(e.pose.pitch())), 1.0);
 }
 
-namespace {
-ParticleSet runWithThreads(int threads) {
-  const Mesh mesh = asymmetricRoom();
-  EmbreeOptions opt;
-  opt.threads = threads;
-  EmbreeCaster caster(mesh, opt);
-  const Rig rig = scannerRig();
-  MclConfig cfg;
-  cfg.particles = 800;
-  cfg.threads = threads;
-  Localizer loc(caster, mesh, rig, cfg);
-  const auto truth = loopTrajectory(20);
-  loc.initPose(truth[0], planarCov(0.3, 0.2), 0);
-  drive(loc, caster, rig, truth);
-  return loc.particles();
-}
-}  // namespace
-
 TEST(MclTracking, SameResultForOneAndTwoThreads) {
   const ParticleSet a = runWithThreads(1), b = runWithThreads(2);
   ASSERT_EQ(a.size(), b.size());
