@@ -8,6 +8,8 @@
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/raycast/embree.hpp>
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -111,6 +113,18 @@ inline ParticleSet runWithThreads(int threads, const std::string& model = "beam"
   return loc.particles();
 }
 
+
+// Bit-identical particle sets (position, yaw component, weight), e.g. from 1 and 2 threads.
+inline void expectIdenticalParticles(const ParticleSet& a, const ParticleSet& b) {
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_GT(a.size(), 0u);
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a.x[i], b.x[i]) << i;
+    ASSERT_EQ(a.y[i], b.y[i]) << i;
+    ASSERT_EQ(a.qz[i], b.qz[i]) << i;
+    ASSERT_EQ(a.logw[i], b.logw[i]) << i;
+  }
+}
 
 inline double posErr(const Pose& a, const Pose& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
 inline double yawErrDeg(const Pose& a, const Pose& b) { return std::abs(rad2deg(angleDiff(a.yaw(), b.yaw()))); }

@@ -90,14 +90,7 @@ TEST(MclLikelihoodField, LocalizerConvergesFromPerturbedPose) {
 
 TEST(MclLikelihoodField, SameResultForOneAndTwoThreads) {
   const ParticleSet a = runWithThreads(1, "likelihood_field"), b = runWithThreads(2, "likelihood_field");
-  ASSERT_EQ(a.size(), b.size());
-  ASSERT_GT(a.size(), 0u);
-  for (size_t i = 0; i < a.size(); ++i) {
-    ASSERT_EQ(a.x[i], b.x[i]) << i;
-    ASSERT_EQ(a.y[i], b.y[i]) << i;
-    ASSERT_EQ(a.qz[i], b.qz[i]) << i;
-    ASSERT_EQ(a.logw[i], b.logw[i]) << i;
-  }
+  expectIdenticalParticles(a, b);
 }
 
 TEST(MclLikelihoodField, ConfigSection) {
