@@ -45,6 +45,7 @@ MclConfig parseMclConfig(ConfigMap m) {
     c.relocalize_rounds = size_t(n);
   }
   c.relocalize_threshold = m.getDouble("relocalize_threshold", c.relocalize_threshold, 0, 1);
+  c.relocalize_jump = m.getDouble("relocalize_jump", c.relocalize_jump, 0, 1e6);
   c.beams_per_scan = count("beams_per_scan", c.beams_per_scan);
   c.subsample = m.getChoice("subsample", c.subsample, {"uniform"});
   c.update_min_distance = m.getDouble("update_min_distance", c.update_min_distance, 0, kBig);
@@ -52,6 +53,7 @@ MclConfig parseMclConfig(ConfigMap m) {
   c.round_timeout = m.getDouble("round_timeout", c.round_timeout, 0, 1e3);
   c.robot_radius = m.getDouble("robot_radius", c.robot_radius, 0, 100);
   c.body_height = m.getDouble("body_height", c.body_height, 0, 100);
+  c.blocked_max_mass = m.getDouble("blocked_max_mass", c.blocked_max_mass, 0, 1);
   c.uncertain_xy = m.getDouble("uncertain_xy", c.uncertain_xy, 0, kBig);
   c.uncertain_yaw = m.getAngle("uncertain_yaw", c.uncertain_yaw);
   c.seed = uint64_t(m.getInt("seed", int64_t(c.seed)));
@@ -101,6 +103,31 @@ MclConfig parseMclConfig(ConfigMap m) {
     rc.depth_cameras = r.getBool("depth_cameras", rc.depth_cameras);
     if (rc.dof != 0 && rc.dof != 3 && rc.dof != 6) r.value("dof").fail("must be 0 (the filter's), 3 or 6");
     r.finish();
+  }
+  if (m.has("hypotheses")) {
+    ConfigMap h = m.map("hypotheses");
+    GlobalHypotheses& gh = c.hypotheses;
+    const int64_t n = h.getInt("count", int64_t(gh.count));
+    if (n < 0 || n > 10'000) h.value("count").fail("must be between 0 (off) and 10000");
+    gh.count = size_t(n);
+    gh.separation = h.getDouble("separation", gh.separation, 0, 100);
+    gh.separation_yaw = h.getAngle("separation_yaw", gh.separation_yaw);
+    const int64_t np = h.getInt("particles", int64_t(gh.particles));
+    if (np < 1 || np > 100'000) h.value("particles").fail("must be between 1 and 100000");
+    gh.particles = size_t(np);
+    gh.spread_xy = h.getDouble("spread_xy", gh.spread_xy, 0, 10);
+    gh.spread_yaw = h.getAngle("spread_yaw", gh.spread_yaw);
+    gh.min_inlier_ratio = h.getDouble("min_inlier_ratio", gh.min_inlier_ratio, 0, 1);
+    gh.ratio_margin = h.getDouble("ratio_margin", gh.ratio_margin, 0, 1);
+    gh.max_correction = h.getDouble("max_correction", gh.max_correction, 0, 100);
+    gh.max_correction_yaw = h.getAngle("max_correction_yaw", gh.max_correction_yaw);
+    const int64_t b = h.getInt("beams_per_scan", int64_t(gh.beams_per_scan));
+    if (b < 1 || b > 100'000) h.value("beams_per_scan").fail("must be between 1 and 100000");
+    gh.beams_per_scan = size_t(b);
+    const int64_t f = h.getInt("fresh", int64_t(gh.fresh));
+    if (f < 0 || f > 10'000'000) h.value("fresh").fail("must be between 0 and 10000000");
+    gh.fresh = size_t(f);
+    h.finish();
   }
   if (m.has("beam")) {
     ConfigMap b = m.map("beam");

@@ -51,16 +51,30 @@ void FreeFloor::snapToFloor(ParticleSet& s, double step_up, double max_drop) con
   });
 }
 
-size_t FreeFloor::zeroBlocked(ParticleSet& s) const {
+BlockedResult FreeFloor::zeroBlocked(ParticleSet& s, double max_mass) const {
   const size_t n = s.size();
   std::vector<Eigen::Vector3f> pts(n);
   for (size_t i = 0; i < n; ++i) pts[i] = (s.pose(i) * Eigen::Vector3d(0, 0, config_.body_height)).cast<float>();
   std::vector<uint8_t> free(n);
   caster_.queryFree(pts, float(config_.robot_radius), free.data());
+  // Weight share of the blocked particles (log weights are unnormalised here).
+  double top = -std::numeric_limits<double>::infinity();
+  for (double w : s.logw)
+    if (std::isfinite(w)) top = std::max(top, w);
+  double all = 0, blocked_mass = 0;
   size_t blocked = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double w = std::isfinite(s.logw[i]) ? std::exp(s.logw[i] - top) : 0.0;
+    all += w;
+    if (!free[i]) blocked_mass += w, ++blocked;
+  }
+  BlockedResult r;
+  if (blocked == 0) return r;
+  if (all > 0 && blocked < n && blocked_mass > max_mass * all) return r.ignored = blocked, r;
   for (size_t i = 0; i < n; ++i)
-    if (!free[i]) s.logw[i] = -std::numeric_limits<double>::infinity(), ++blocked;
-  return blocked;
+    if (!free[i]) s.logw[i] = -std::numeric_limits<double>::infinity();
+  r.zeroed = blocked;
+  return r;
 }
 
 std::vector<uint8_t> FreeFloor::enclosed(const std::vector<Eigen::Vector3f>& points,

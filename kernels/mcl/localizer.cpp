@@ -5,6 +5,7 @@
 #include <polyloc/mcl/sensor_model.hpp>
 #include <polyloc/mcl/estimate.hpp>
 #include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/hypotheses.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/motion_model.hpp>
 #include <polyloc/mcl/refine.hpp>
@@ -26,6 +27,8 @@ constexpr uint64_t kResampleStream = 0x524553ULL << 40;
 constexpr uint64_t kInjectStream = 0x494E4AULL << 40;
 constexpr uint64_t kInitStream = 0x494E49ULL << 40;
 constexpr uint64_t kRelocStream = 0x524C43ULL << 40;
+constexpr uint64_t kPlantStream = 0x504C54ULL << 40;
+constexpr uint64_t kFreshStream = 0x465253ULL << 40;
 constexpr int64_t kOdometryGapNs = 1'000'000'000;
 constexpr int64_t kOdomHistoryNs = 2'000'000'000;
 constexpr int64_t kExtrapolateNs = 100'000'000;
@@ -90,7 +93,7 @@ struct Localizer::Impl {
     coarse_left = 0;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
-    odom_at_update = odom_at_predict = scan_odom = odomAt(stamp);
+    odom_at_update = odom_at_predict = odom_at_round = scan_odom = odomAt(stamp);
     initialised = true;
     if (config.dof == 3) floor.snapToFloor(ps);
     refreshEstimate(MclStatus::Initialising);
@@ -126,6 +129,20 @@ struct Localizer::Impl {
       for (size_t k = 0; k < fresh.size(); ++k) setParticle(ps, slots[k], fresh[k]);
       counters.injected += fresh.size();
     }
+  }
+
+  // config.hypotheses.fresh uniform free-floor particles appended, at the mean weight.
+  void addFresh() {
+    const std::vector<Pose> poses = floor.sampleFree(config.hypotheses.fresh, rng, kFreshStream + step);
+    if (poses.empty()) return;
+    normalizeLogWeights(ps.logw);
+    const size_t n0 = ps.size();
+    resizeParticles(ps, n0 + poses.size());
+    const double w = -std::log(double(n0 + poses.size()));
+    const double shift = -std::log(double(n0 + poses.size()) / double(n0));  // old particles keep their relative weights
+    for (size_t i = 0; i < n0; ++i) ps.logw[i] += shift;
+    for (size_t k = 0; k < poses.size(); ++k) setParticle(ps, n0 + k, poses[k]), ps.logw[n0 + k] = w;
+    counters.injected += poses.size();
   }
 
   // Global particles uniform over the free floor, equal weights.
@@ -183,12 +200,18 @@ struct Localizer::Impl {
       fast += config.alpha_fast * (w_avg - fast);
     }
 
-    counters.particles_blocked += floor.zeroBlocked(ps);
+    {
+      const BlockedResult b = floor.zeroBlocked(ps, config.blocked_max_mass);
+      counters.particles_blocked += b.zeroed;
+      counters.blocked_ignored += b.ignored;
+    }
     if (!normalizeLogWeights(ps.logw)) ++counters.weights_collapsed, ++round_collapsed;
     // No particle explains the scan better than the non-hit parts of the mixture.
     round_lost += best < model.unexplainedLogLikelihood(sensor);
     ++round_sensors;
-    if (config.refine.enabled && (config.refine.depth_cameras || !std::holds_alternative<DepthCameraSpec>(rig.sensors[sensor].spec))) {
+    round_coarse = round_coarse || frame.coarse;
+    if ((config.refine.enabled || config.hypotheses.count > 0) &&
+        (config.refine.depth_cameras || !std::holds_alternative<DepthCameraSpec>(rig.sensors[sensor].spec))) {
       RoundFrame& f = round_frames[sensor];
       f.ranges.assign(ranges.begin(), ranges.end());
       f.odom = scan_odom;
@@ -207,13 +230,23 @@ struct Localizer::Impl {
   // so it would never get fresh particles).
   void closeRound() {
     if (round_sensors == 0) return;
+    const uint64_t reloc_at_round = counters.relocalizations;
     est.stamp_ns = round_stamp;  // the particles are at the odometry of the last frame weighed
+    const bool global_round = coarse_left > 0;  // one of the rounds right after a uniform prior
     if (coarse_left > 0) --coarse_left;
+    const bool planted = round_coarse && config.hypotheses.count > 0 && plantRefinedModes();
     est.ess = effectiveSampleSize(ps.logw);
     // Lost when most sensors of the round are explained by no particle (one sensor alone may be
     // blinded by a person standing in front of it).
     const bool lost = round_collapsed > 0 || 2 * round_lost > round_sensors;
+    const MclEstimate before = est;
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
+    // Where the last estimate would be now by odometry; a tracked estimate far from it was taken
+    // over by injected particles.
+    const Pose predicted = before.pose * (odom_at_round.inverse() * odom_at_predict);
+    odom_at_round = odom_at_predict;
+    const bool jumped = config.relocalize_jump > 0 && before.status == MclStatus::Tracking && !global_round &&
+                        (est.pose.translation() - predicted.translation()).head<2>().norm() > config.relocalize_jump;
     if (config.refine.enabled) refineEstimate();
     // Sensor resetting: for relocalize_rounds rounds the short-term likelihood has stayed far
     // below the long-term one, or the filter has been lost (kidnapped, tracking a wrong place).
@@ -228,21 +261,53 @@ struct Localizer::Impl {
     const bool low = round_low >= needed || 2 * round_lost > round_sensors;
     low_rounds = low ? low_rounds + 1 : 0;
     ++rounds_since_reset;
-    if (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
-        rounds_since_reset > 2 * config.relocalize_rounds) {
+    if (jumped || (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
+                   rounds_since_reset > 2 * config.relocalize_rounds)) {
       drawUniform(kRelocStream + step);
       coarse_left = config.global_coarse_rounds;
       w_fast = w_slow;  // no injection into the fresh prior until tracking weighs again
       ++counters.relocalizations;
       low_rounds = rounds_since_reset = 0;
       refreshEstimate(MclStatus::Lost);
-    } else if (est.ess < config.resample_ess * double(ps.size()) || inject_due > 0.05) {
+    } else if (planted || est.ess < config.resample_ess * double(ps.size()) || inject_due > 0.05) {
       resample();
     }
+    // Global localisation: fresh uniform particles each coarse round, so that places the prior
+    // missed can still become modes (and be refined) while the robot moves.
+    if (global_round && coarse_left > 0 && config.hypotheses.count > 0 && config.hypotheses.fresh > 0 &&
+        counters.relocalizations == reloc_at_round)
+      addFresh();
     est.particles = ps.size();
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
     round_low = 0;
+    round_coarse = false;
+    for (RoundFrame& f : round_frames) f.valid = false;  // the data stays until the next round overwrites it
+  }
+
+  // The round's scanner frames, as refinePose takes them: relative to the odometry of the last
+  // weighed frame (the particles' time).
+  std::vector<RefineScan> roundScans() const {
+    const Pose& ref = odom_at_predict;
+    std::vector<RefineScan> scans;
+    for (size_t k = 0; k < round_frames.size(); ++k)
+      if (round_frames[k].valid) scans.push_back(RefineScan{k, round_frames[k].ranges, ref.inverse() * round_frames[k].odom});
+    return scans;
+  }
+
+  // Global localisation (hypotheses.hpp): the cloud's best distinct modes refined against the
+  // round's frames; those that fit are planted back as tight clouds. True when any was planted.
+  bool plantRefinedModes() {
+    const std::vector<RefineScan> scans = roundScans();
+    if (scans.empty()) return false;
+    const std::vector<Hypothesis> hyps = refineModes(caster, rig, scans, ps, config.hypotheses, config.refine);
+    const size_t n = plantHypotheses(ps, hyps, config.hypotheses, rng, kPlantStream + step);
+    if (n == 0) return false;
+    counters.hypotheses += hyps.size();
+    if (config.dof == 3) floor.snapToFloor(ps);
+    normalizeLogWeights(ps.logw);
+    est.ess = effectiveSampleSize(ps.logw);
+    return true;
   }
 
   // The estimate refined against the mesh with the round's frames (refine.hpp), while tracking:
@@ -250,13 +315,8 @@ struct Localizer::Impl {
   // refinement is an output, the filter stays a filter.
   void refineEstimate() {
     est.refined = false;
-    const Pose& ref = odom_at_predict;  // odometry at the last weighed frame: the estimate's time
-    std::vector<RefineScan> scans;
-    for (size_t k = 0; k < round_frames.size(); ++k) {
-      RoundFrame& f = round_frames[k];
-      if (f.valid && est.status == MclStatus::Tracking) scans.push_back(RefineScan{k, f.ranges, ref.inverse() * f.odom});
-      f.valid = false;  // the data stays until the next round overwrites it
-    }
+    if (est.status != MclStatus::Tracking) return;
+    const std::vector<RefineScan> scans = roundScans();
     if (scans.empty()) return;
     const RefineResult r = refinePose(caster, rig, scans, est.pose, config.refine.dof ? config.refine.dof : config.dof, config.refine);
     if (!r.accepted) return void(++counters.refinements_refused);
@@ -288,6 +348,7 @@ struct Localizer::Impl {
   bool initialised = false, updated_once = false, have_odom = false;
   int64_t last_odom_t = 0;
   Pose last_odom, odom_at_predict, odom_at_update;
+  Pose odom_at_round;  // odometry at the last round's estimate (relocalize_jump)
   Pose scan_odom;  // odometry interpolated to the stamp of the scan being weighed
   std::deque<std::pair<int64_t, Pose>> odom_history;  // the last kOdomHistoryNs of odometry
 
@@ -321,6 +382,7 @@ struct Localizer::Impl {
   int64_t round_start = 0, round_stamp = 0;
   size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
   size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior
+  bool round_coarse = false;  // a frame of the open round was weighed coarse
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)

@@ -86,6 +86,7 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
     }
   }
   const size_t N = bm.size();
+  res.beams = N;
   if (N < cfg.min_correspondences || N == 0) {
     res.reason = "too few valid beams (" + std::to_string(N) + ")";
     return res;

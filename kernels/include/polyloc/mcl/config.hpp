@@ -96,6 +96,26 @@ struct DepthModel {
   double sigma_per_m = 0.01;   // hit noise added per metre of range (in quadrature to beam.sigma_hit)
 };
 
+// Global localisation (hypotheses.hpp): while the filter weighs coarse (after a uniform prior, or
+// not tracking), the `count` best distinct modes of the cloud are refined against the mesh each
+// round, and those that fit are planted back as tight clouds. A sparse prior has no particle
+// within centimetres of the truth, and without this the fine weighting that follows picks the
+// mode with the luckiest particle, not the place that fits best.
+struct GlobalHypotheses {
+  size_t count = 24;               // modes refined per round (0: off)
+  double separation = 0.5;         // m: a mode is this far from the better ones ...
+  double separation_yaw = 0.35;    // ... or turned by this much (rad)
+  size_t particles = 50;           // planted per refined mode
+  double spread_xy = 0.02;         // m: std of the planted cloud
+  double spread_yaw = 0.01;        // rad
+  double min_inlier_ratio = 0.6;   // refined fits with fewer inliers are dropped ...
+  double ratio_margin = 0.1;       // ... and those more than this below the best one
+  double max_correction = 0.6;     // m: how far the refinement may move a mode
+  double max_correction_yaw = 0.3; // rad
+  size_t beams_per_scan = 60;      // valid beams per scan in the refinement
+  size_t fresh = 10000;            // uniform particles added after each coarse round (new candidates)
+};
+
 struct MclConfig {
   int dof = 3;                      // 3: x, y, yaw on the floor; 6: full pose
   std::string model = "beam";       // scanners, lidar: beam | likelihood_field | plane_fragments
@@ -117,6 +137,10 @@ struct MclConfig {
   size_t global_coarse_rounds = 5;
   size_t relocalize_rounds = 5;
   double relocalize_threshold = 0.45;
+  // A tracked estimate that jumps farther than this (m) in one round, beyond what odometry
+  // moved, was taken over by injected particles: the filter starts over from a uniform prior
+  // rather than trust a place found by a handful of them (0 disables).
+  double relocalize_jump = 1.0;
   size_t beams_per_scan = 60;       // per sensor per update
   std::string subsample = "uniform";  // uniform | random
   double update_min_distance = 0.05;  // m travelled before the next update ...
@@ -124,11 +148,15 @@ struct MclConfig {
   double round_timeout = 0.25;      // s: a round of sensor frames still open after this is closed
   double robot_radius = 0.25;       // particles closer than this to a surface get zero weight
   double body_height = 0.4;         // m above base_link where the clearance above is checked
+  // Blocked particles are zeroed only while they hold at most this share of the weight: more
+  // means the robot stands where the map says it cannot (passing close to furniture).
+  double blocked_max_mass = 0.5;
   double uncertain_xy = 0.3;        // m: position std above this (or a weak dominant cluster)
   double uncertain_yaw = 0.2;       // rad   ... gives status Uncertain
   MotionNoise motion;
   BeamModel beam;
   RefineConfig refine;
+  GlobalHypotheses hypotheses;
   DepthModel depth;
   LikelihoodField likelihood_field;
   PlaneFragments plane_fragments;

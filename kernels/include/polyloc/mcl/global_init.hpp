@@ -16,6 +16,10 @@
 
 namespace polyloc {
 
+struct BlockedResult {
+  size_t zeroed = 0, ignored = 0;
+};
+
 class FreeFloor {
  public:
   FreeFloor(const RayCaster& caster, const Mesh& map, const MclConfig& config);
@@ -24,8 +28,10 @@ class FreeFloor {
   // looking from `step_up` above its base down to `max_drop` below. No floor found: unchanged.
   void snapToFloor(ParticleSet& s, double step_up = 0.3, double max_drop = 1.0) const;
   // Sets logw = -inf for particles whose body is in solid or closer than robot_radius to a
-  // surface. Returns how many.
-  size_t zeroBlocked(ParticleSet& s) const;
+  // surface, unless they hold more than max_mass of the weight: then the robot evidently stands
+  // where the map says it cannot (a tight spot, furniture moved), and zeroing would leave only the
+  // particles elsewhere. Returns how many were zeroed, or ignored.
+  BlockedResult zeroBlocked(ParticleSet& s, double max_mass = 1.0) const;
   // n poses uniform over the free floor (yaw uniform; roll, pitch from the floor). May return
   // fewer when the map has (almost) no free floor.
   std::vector<Pose> sampleFree(size_t n, const CounterRng& rng, uint64_t stream) const;

@@ -40,6 +40,7 @@ struct RefineResult {
   // observe (along a corridor) show as large variance; held axes (dof 3) are 0.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   size_t correspondences = 0;  // inliers in the last iteration
+  size_t beams = 0;            // beams selected from the scans (the inlier ratio's denominator)
   double rms = 0;              // m, RMS point-to-plane residual of the inliers
   int iterations = 0;
   bool accepted = false;

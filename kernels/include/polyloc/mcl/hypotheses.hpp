@@ -1,0 +1,43 @@
+// Global hypotheses: the best distinct modes of a spread particle cloud, refined against the mesh
+// (refine.hpp) and planted back as tight clouds. Used by the Localizer while it weighs coarse
+// (after a uniform prior): a prior of 100,000 particles over a building has next to none within
+// centimetres of the truth, so the fine weighting that follows would choose between modes by the
+// luck of their best particle. Refined, each mode is judged by how well the place itself fits.
+#pragma once
+
+#include <polyloc/geometry/pose.hpp>
+#include <polyloc/geometry/random.hpp>
+#include <polyloc/mcl/config.hpp>
+#include <polyloc/mcl/localizer.hpp>
+#include <polyloc/mcl/refine.hpp>
+#include <polyloc/raycast/ray_caster.hpp>
+#include <polyloc/sensors/rig.hpp>
+
+#include <span>
+#include <vector>
+
+namespace polyloc {
+
+struct Hypothesis {
+  Pose pose;                // refined map_T_base
+  double inlier_ratio = 0;  // of the refinement's beams
+  double rms = 0;           // m, of the inliers
+};
+
+// Indices of up to k particles, best weight first, each at least `separation` (m) or
+// `separation_yaw` (rad) away from every better one taken. Particles of weight zero are skipped.
+std::vector<size_t> distinctModes(const ParticleSet& s, size_t k, double separation, double separation_yaw);
+
+// Refines the modes (distinctModes with the config's count and separation) in 3 DoF against the
+// scans and keeps those that fit: inlier ratio >= min_inlier_ratio and within ratio_margin of the
+// best. `base` supplies the Gauss-Newton settings (huber, max_correspondence, iterations).
+std::vector<Hypothesis> refineModes(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans,
+                                    const ParticleSet& s, const GlobalHypotheses& config, const RefineConfig& base);
+
+// Replaces the lightest particles (at most half of the set) by `config.particles` per hypothesis,
+// drawn around it (spread_xy, spread_yaw; z, roll, pitch as refined), each with the weight of the
+// heaviest particle. Returns the number planted. logw is left unnormalised.
+size_t plantHypotheses(ParticleSet& s, std::span<const Hypothesis> hyps, const GlobalHypotheses& config,
+                       const CounterRng& rng, uint64_t stream);
+
+}  // namespace polyloc

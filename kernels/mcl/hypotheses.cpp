@@ -1,0 +1,87 @@
+#include <polyloc/mcl/hypotheses.hpp>
+#include <polyloc/mcl/motion_model.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace polyloc {
+namespace {
+
+double yawOf(const ParticleSet& s, size_t i) {
+  return std::atan2(2 * (s.qw[i] * s.qz[i] + s.qx[i] * s.qy[i]), 1 - 2 * (s.qy[i] * s.qy[i] + s.qz[i] * s.qz[i]));
+}
+
+}  // namespace
+
+std::vector<size_t> distinctModes(const ParticleSet& s, size_t k, double separation, double separation_yaw) {
+  std::vector<size_t> order;
+  order.reserve(s.size());
+  for (size_t i = 0; i < s.size(); ++i)
+    if (std::isfinite(s.logw[i])) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return s.logw[a] != s.logw[b] ? s.logw[a] > s.logw[b] : a < b; });
+  std::vector<size_t> modes;
+  std::vector<double> yaws;
+  const double sep2 = separation * separation;
+  for (size_t i : order) {
+    if (modes.size() >= k) break;
+    const double yaw = yawOf(s, i);
+    bool near = false;
+    for (size_t m = 0; m < modes.size() && !near; ++m) {
+      const double dx = s.x[i] - s.x[modes[m]], dy = s.y[i] - s.y[modes[m]];
+      near = dx * dx + dy * dy < sep2 && std::abs(angleDiff(yaw, yaws[m])) < separation_yaw;
+    }
+    if (!near) modes.push_back(i), yaws.push_back(yaw);
+  }
+  return modes;
+}
+
+std::vector<Hypothesis> refineModes(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans,
+                                    const ParticleSet& s, const GlobalHypotheses& config, const RefineConfig& base) {
+  RefineConfig rc = base;
+  rc.beams_per_scan = config.beams_per_scan;
+  rc.max_correction = config.max_correction;
+  rc.max_correction_yaw = config.max_correction_yaw;
+  rc.min_inlier_ratio = config.min_inlier_ratio;
+  std::vector<Hypothesis> out;
+  for (size_t i : distinctModes(s, config.count, config.separation, config.separation_yaw)) {
+    const RefineResult r = refinePose(caster, rig, scans, s.pose(i), 3, rc);
+    if (!r.accepted || r.beams == 0) continue;
+    out.push_back(Hypothesis{r.pose, double(r.correspondences) / double(r.beams), r.rms});
+  }
+  double best = 0;
+  for (const Hypothesis& h : out) best = std::max(best, h.inlier_ratio);
+  std::erase_if(out, [&](const Hypothesis& h) { return h.inlier_ratio < best - config.ratio_margin; });
+  return out;
+}
+
+size_t plantHypotheses(ParticleSet& s, std::span<const Hypothesis> hyps, const GlobalHypotheses& config,
+                       const CounterRng& rng, uint64_t stream) {
+  const size_t n = std::min(hyps.size() * config.particles, s.size() / 2);
+  if (n == 0) return 0;
+  std::vector<size_t> order(s.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  // Lightest first (-inf and NaN before everything).
+  auto lighter = [&](size_t a, size_t b) {
+    const double wa = std::isfinite(s.logw[a]) ? s.logw[a] : -INFINITY, wb = std::isfinite(s.logw[b]) ? s.logw[b] : -INFINITY;
+    return wa != wb ? wa < wb : a < b;
+  };
+  std::nth_element(order.begin(), order.begin() + ptrdiff_t(n), order.end(), lighter);
+  std::sort(order.begin(), order.begin() + ptrdiff_t(n));
+  double heaviest = -INFINITY;
+  for (double w : s.logw)
+    if (std::isfinite(w)) heaviest = std::max(heaviest, w);
+  if (!std::isfinite(heaviest)) heaviest = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const Hypothesis& h = hyps[k % hyps.size()];
+    const size_t i = order[k];
+    const double dx = config.spread_xy * rng.normal(stream, k, 0), dy = config.spread_xy * rng.normal(stream, k, 1);
+    const double dyaw = config.spread_yaw * rng.normal(stream, k, 2);
+    const Pose& p = h.pose;
+    setParticle(s, i, Pose::fromXYZRPY(p.x() + dx, p.y() + dy, p.z(), p.roll(), p.pitch(), p.yaw() + dyaw));
+    s.logw[i] = heaviest;
+  }
+  return n;
+}
+
+}  // namespace polyloc

@@ -1,0 +1,89 @@
+// Global hypotheses (hypotheses.hpp): distinct modes of a cloud, their refinement against the
+// mesh, planting them back; and the blocked-particle guard (blocked_max_mass).
+#include "mcl_fixtures.hpp"
+
+#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/hypotheses.hpp>
+#include <polyloc/mcl/refine.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace polyloc;
+using namespace polyloc::test;
+
+TEST(MclHypotheses, DistinctModesAreSeparatedAndBestFirst) {
+  ParticleSet ps = particlesAt({Pose::planar(0, 0, 0), Pose::planar(0.1, 0, 0), Pose::planar(0, 0, 1.0),
+                                Pose::planar(2, 0, 0), Pose::planar(3, 0, 0)});
+  ps.logw = {-1.0, -0.5, -2.0, -3.0, -std::numeric_limits<double>::infinity()};
+  const auto m = distinctModes(ps, 10, 0.5, 0.35);
+  // 1 is best; 0 is within 0.5 m and the same yaw, so merged; 2 is turned by 1 rad: a mode of its
+  // own; 3 is 2 m away; 4 has weight zero.
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_EQ(m[0], 1u);
+  EXPECT_EQ(m[1], 2u);
+  EXPECT_EQ(m[2], 3u);
+  EXPECT_EQ(distinctModes(ps, 2, 0.5, 0.35).size(), 2u);
+}
+
+TEST(MclHypotheses, RefineModesKeepsThePlaceThatFits) {
+  const Mesh mesh = asymmetricRoom();
+  EmbreeCaster caster(mesh);
+  const Rig rig = scannerRig();
+  const Pose truth = Pose::planar(-1.0, 0.5, 0.3);
+  const std::vector<float> r = simulateScan(caster, rig.sensors[0], truth, 0.005, 1);
+  const RefineScan scan{0, r, Pose()};
+  // One mode 0.25 m and 6 deg off the truth, one at the room's mirror pose (the cabinet and the
+  // bin do not fit there), one far off in yaw.
+  ParticleSet ps = particlesAt({Pose::planar(-0.8, 0.35, 0.4), Pose::planar(1.0, -0.5, 0.3 + M_PI),
+                                Pose::planar(0.5, 1.0, -1.5)});
+  ps.logw = {-3.0, -1.0, -2.0};  // the best-weighted mode is the wrong one
+  GlobalHypotheses cfg;
+  const std::vector<Hypothesis> h = refineModes(caster, rig, std::span(&scan, 1), ps, cfg, RefineConfig{});
+  ASSERT_EQ(h.size(), 1u);
+  EXPECT_LT(posErr(h[0].pose, truth), 0.01);
+  EXPECT_LT(yawErrDeg(h[0].pose, truth), 0.3);
+  EXPECT_GT(h[0].inlier_ratio, 0.95);
+}
+
+TEST(MclHypotheses, PlantReplacesTheLightestAtTheBestWeight) {
+  ParticleSet ps = particlesAt(std::vector<Pose>(10, Pose::planar(5, 5, 0)));
+  for (size_t i = 0; i < 10; ++i) ps.logw[i] = -double(i);
+  GlobalHypotheses cfg;
+  cfg.particles = 2;
+  cfg.spread_xy = 0.01;
+  const std::vector<Hypothesis> hyps = {{Pose::planar(1, 1, 0.5), 0.9, 0.01}, {Pose::planar(-1, 2, -0.5), 0.9, 0.01}};
+  EXPECT_EQ(plantHypotheses(ps, hyps, cfg, CounterRng(1), 7), 4u);
+  for (size_t i = 0; i < 6; ++i) EXPECT_DOUBLE_EQ(ps.x[i], 5.0) << i;  // the heavier six stay
+  for (size_t i = 6; i < 10; ++i) {
+    EXPECT_DOUBLE_EQ(ps.logw[i], 0.0) << i;
+    const Hypothesis& h = hyps[(i - 6) % 2];
+    EXPECT_LT(posErr(ps.pose(i), h.pose), 0.05) << i;
+  }
+  // Never more than half the set.
+  cfg.particles = 100;
+  EXPECT_EQ(plantHypotheses(ps, hyps, cfg, CounterRng(1), 8), 5u);
+}
+
+TEST(MclHypotheses, BlockedParticlesHoldingMostWeightAreKept) {
+  const Mesh mesh = asymmetricRoom();
+  EmbreeCaster caster(mesh);
+  MclConfig cfg;
+  FreeFloor floor(caster, mesh, cfg);
+  // Three particles 0.1 m from the cabinet's west face (x = 2.6), one in the open.
+  ParticleSet ps = particlesAt({Pose::planar(2.5, 2.0, 0), Pose::planar(2.5, 2.1, 0), Pose::planar(2.5, 2.2, 0),
+                                Pose::planar(0, 0, 0)});
+  ParticleSet a = ps;
+  BlockedResult r = floor.zeroBlocked(a, 0.5);  // 3/4 of the weight blocked: the robot is there
+  EXPECT_EQ(r.zeroed, 0u);
+  EXPECT_EQ(r.ignored, 3u);
+  EXPECT_TRUE(std::isfinite(a.logw[0]));
+  ParticleSet b = ps;
+  b.logw = {-5.0, -5.0, -5.0, 0.0};  // the blocked ones are light: zeroed
+  r = floor.zeroBlocked(b, 0.5);
+  EXPECT_EQ(r.zeroed, 3u);
+  EXPECT_FALSE(std::isfinite(b.logw[1]));
+  EXPECT_TRUE(std::isfinite(b.logw[3]));
+}
