@@ -209,7 +209,6 @@ struct Localizer::Impl {
     // No particle explains the scan better than the non-hit parts of the mixture.
     round_lost += best < model.unexplainedLogLikelihood(sensor);
     ++round_sensors;
-    round_coarse = round_coarse || frame.coarse;
     if ((config.refine.enabled || config.hypotheses.count > 0) &&
         (config.refine.depth_cameras || !std::holds_alternative<DepthCameraSpec>(rig.sensors[sensor].spec))) {
       RoundFrame& f = round_frames[sensor];
@@ -234,7 +233,9 @@ struct Localizer::Impl {
     est.stamp_ns = round_stamp;  // the particles are at the odometry of the last frame weighed
     const bool global_round = coarse_left > 0;  // one of the rounds right after a uniform prior
     if (coarse_left > 0) --coarse_left;
-    const bool planted = round_coarse && config.hypotheses.count > 0 && plantRefinedModes();
+    // Only right after a uniform prior: planting refined modes while tracking through a crowd
+    // (uncertain, weighed coarse) moves a good cloud onto fits that people distort.
+    const bool planted = global_round && config.hypotheses.count > 0 && plantRefinedModes();
     est.ess = effectiveSampleSize(ps.logw);
     // Lost when most sensors of the round are explained by no particle (one sensor alone may be
     // blinded by a person standing in front of it).
@@ -281,7 +282,6 @@ struct Localizer::Impl {
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
     round_low = 0;
-    round_coarse = false;
     for (RoundFrame& f : round_frames) f.valid = false;  // the data stays until the next round overwrites it
   }
 
@@ -382,7 +382,6 @@ struct Localizer::Impl {
   int64_t round_start = 0, round_stamp = 0;
   size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
   size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior
-  bool round_coarse = false;  // a frame of the open round was weighed coarse
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)

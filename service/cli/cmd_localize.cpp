@@ -302,6 +302,10 @@ void runLocalize(const LocalizeArgs& a) {
                              {"injected", c.injected},
                              {"refinements", c.refinements},
                              {"refinements_refused", c.refinements_refused},
+                             {"relocalizations", c.relocalizations},
+                             {"hypotheses", c.hypotheses},
+                             {"particles_blocked", c.particles_blocked},
+                             {"blocked_ignored", c.blocked_ignored},
                              {"ground_truth_rejected", truth_file_rejected}};
   if (a.json) {
     nlohmann::json j = {{"input", a.input}, {"format", reader->format()}, {"map", map_file}, {"config", a.config},
