@@ -202,6 +202,15 @@ int64_t ConfigMap::getInt(const std::string& key, int64_t def) {
   return has(key) ? value(key).asInt() : def;
 }
 
+size_t ConfigMap::getCount(const std::string& key, size_t def, size_t lo, size_t hi) {
+  if (!has(key)) return def;
+  const ConfigValue v = value(key);
+  const int64_t n = v.asInt();
+  if (n < 0 || size_t(n) < lo || size_t(n) > hi)
+    v.fail("must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + std::to_string(n));
+  return size_t(n);
+}
+
 bool ConfigMap::getBool(const std::string& key, bool def) {
   return has(key) ? value(key).asBool() : def;
 }

@@ -74,9 +74,7 @@ MclConfig parseMclConfig(ConfigMap m) {
   if (m.has("depth")) {
     ConfigMap d = m.map("depth");
     DepthModel& dm = c.depth;
-    const int64_t px = d.getInt("pixels", int64_t(dm.pixels));
-    if (px < 1 || px > 10'000'000) d.value("pixels").fail("must be between 1 and 10000000");
-    dm.pixels = size_t(px);
+    dm.pixels = d.getCount("pixels", dm.pixels, 1, 10'000'000);
     dm.jump_ratio = d.getDouble("jump_ratio", dm.jump_ratio, 1e-4, 100);
     dm.sigma_per_m = d.getDouble("sigma_per_m", dm.sigma_per_m, 0, 10);
     d.finish();
@@ -107,26 +105,18 @@ MclConfig parseMclConfig(ConfigMap m) {
   if (m.has("hypotheses")) {
     ConfigMap h = m.map("hypotheses");
     GlobalHypotheses& gh = c.hypotheses;
-    const int64_t n = h.getInt("count", int64_t(gh.count));
-    if (n < 0 || n > 10'000) h.value("count").fail("must be between 0 (off) and 10000");
-    gh.count = size_t(n);
+    gh.count = h.getCount("count", gh.count, 0, 10'000);
     gh.separation = h.getDouble("separation", gh.separation, 0, 100);
     gh.separation_yaw = h.getAngle("separation_yaw", gh.separation_yaw);
-    const int64_t np = h.getInt("particles", int64_t(gh.particles));
-    if (np < 1 || np > 100'000) h.value("particles").fail("must be between 1 and 100000");
-    gh.particles = size_t(np);
+    gh.particles = h.getCount("particles", gh.particles, 1, 100'000);
     gh.spread_xy = h.getDouble("spread_xy", gh.spread_xy, 0, 10);
     gh.spread_yaw = h.getAngle("spread_yaw", gh.spread_yaw);
     gh.min_inlier_ratio = h.getDouble("min_inlier_ratio", gh.min_inlier_ratio, 0, 1);
     gh.ratio_margin = h.getDouble("ratio_margin", gh.ratio_margin, 0, 1);
     gh.max_correction = h.getDouble("max_correction", gh.max_correction, 0, 100);
     gh.max_correction_yaw = h.getAngle("max_correction_yaw", gh.max_correction_yaw);
-    const int64_t b = h.getInt("beams_per_scan", int64_t(gh.beams_per_scan));
-    if (b < 1 || b > 100'000) h.value("beams_per_scan").fail("must be between 1 and 100000");
-    gh.beams_per_scan = size_t(b);
-    const int64_t f = h.getInt("fresh", int64_t(gh.fresh));
-    if (f < 0 || f > 10'000'000) h.value("fresh").fail("must be between 0 and 10000000");
-    gh.fresh = size_t(f);
+    gh.beams_per_scan = h.getCount("beams_per_scan", gh.beams_per_scan, 1, 100'000);
+    gh.fresh = h.getCount("fresh", gh.fresh, 0, 10'000'000);
     h.finish();
   }
   if (m.has("beam")) {

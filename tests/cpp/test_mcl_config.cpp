@@ -36,6 +36,22 @@ TEST(MclConfigYaml, UnknownKeysAndBadValuesNameTheKey) {
   EXPECT_NE(error("mcl:\n  dof: 4\n").find("dof"), std::string::npos);
   EXPECT_NE(error("mcl:\n  dof: 4\n").find("t.yaml"), std::string::npos);
   EXPECT_NE(error("mcl:\n  min_particles: 100\n  max_particles: 10\n").find("max_particles"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  hypotheses: {count: -1}\n").find("count"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  hypotheses: {particles: 0}\n").find("between 1 and"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  hypotheses: {seperation: 1}\n").find("seperation"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  blocked_max_mass: 2\n").find("blocked_max_mass"), std::string::npos);
+}
+
+TEST(MclConfigYaml, HypothesesAndRelocalizationKeys) {
+  ConfigMap m = ConfigMap::parse("mcl:\n  relocalize_jump: 2.5\n  blocked_max_mass: 0.8\n"
+                                 "  hypotheses: {count: 8, separation_yaw: 30, fresh: 0}\n", "t.yaml");
+  const MclConfig c = parseMclConfig(m.map("mcl"));
+  EXPECT_DOUBLE_EQ(c.relocalize_jump, 2.5);
+  EXPECT_DOUBLE_EQ(c.blocked_max_mass, 0.8);
+  EXPECT_EQ(c.hypotheses.count, 8u);
+  EXPECT_NEAR(c.hypotheses.separation_yaw, deg2rad(30), 1e-12);
+  EXPECT_EQ(c.hypotheses.fresh, 0u);
+  EXPECT_EQ(c.hypotheses.particles, GlobalHypotheses{}.particles);
 }
 
 TEST(MclConfigYaml, LabConfigHasAnMclSection) {

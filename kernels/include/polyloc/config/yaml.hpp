@@ -79,6 +79,8 @@ class ConfigMap {
   double getDouble(const std::string& key, double def);
   double getAngle(const std::string& key, double def_rad);
   int64_t getInt(const std::string& key, int64_t def);
+  // An integer in [lo, hi], for counts; the error names the range.
+  size_t getCount(const std::string& key, size_t def, size_t lo, size_t hi);
   bool getBool(const std::string& key, bool def);
   std::string getString(const std::string& key, const std::string& def);
   // One of `choices`; the error lists them.
