@@ -1,5 +1,6 @@
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
+#include <polyloc/vrs/config_yaml.hpp>
 
 #include <filesystem>
 
@@ -37,6 +38,8 @@ PolylocConfig loadConfig(const std::string& path) {
   c.robot = parseRobot(m.map("robot"));
   c.rig = readRig(m.value("rig"), m);
   if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"));
+  c.vrs.robot_height = c.robot.height;
+  if (m.has("vrs")) c.vrs = parseVrsConfig(m.map("vrs"), c.robot.height);
   m.finish();
   return c;
 }

@@ -6,6 +6,7 @@
 //   robot: {...}                      # polyloc/config/robot.hpp
 //   rig: ../rigs/lisa.yaml            # a preset name, a rig file, or inline (sensors/rig.hpp)
 //   mcl: {...}                        # polyloc/mcl/config_yaml.hpp, docs/localization.md
+//   vrs: {...}                        # polyloc/vrs/config_yaml.hpp, docs/vrs.md
 #pragma once
 
 #include <polyloc/config/robot.hpp>
@@ -13,6 +14,7 @@
 #include <polyloc/map/load.hpp>
 #include <polyloc/mcl/config.hpp>
 #include <polyloc/sensors/rig.hpp>
+#include <polyloc/vrs/config.hpp>
 
 #include <string>
 
@@ -29,6 +31,7 @@ struct PolylocConfig {
   RobotSpec robot;
   Rig rig;
   MclConfig mcl;  // `mcl:` section (polyloc/mcl/config_yaml.hpp); defaults when absent
+  VrsConfig vrs;  // `vrs:` section (polyloc/vrs/config_yaml.hpp); robot_height from robot.height
 };
 
 // Throws ConfigError naming file, line and key (also when the map file does not exist).
