@@ -1,4 +1,5 @@
 #include <polyloc/vrs/danger_zones.hpp>
+#include <polyloc/vrs/grid_walk.hpp>
 
 #include <algorithm>
 #include <array>
@@ -113,33 +114,27 @@ float DangerZones::castRay(const Eigen::Vector2f& origin, float angle, float max
   if (cells_.empty() || !origin.allFinite()) return inf;
   const V2 d(std::cos(angle), std::sin(angle));
   const V2 end = origin + max_distance * d;
-  int32_t x0 = int32_t(std::floor((origin.x() - lo_.x()) / res_)), y0 = int32_t(std::floor((origin.y() - lo_.y()) / res_));
+  const int32_t x0 = int32_t(std::floor((origin.x() - lo_.x()) / res_)), y0 = int32_t(std::floor((origin.y() - lo_.y()) / res_));
   const int32_t x1 = int32_t(std::floor((end.x() - lo_.x()) / res_)), y1 = int32_t(std::floor((end.y() - lo_.y()) / res_));
-  const int32_t dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
-  const int32_t sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-  int32_t err = dx + dy;
-  for (;;) {
-    if (at(x0, y0)) {
-      // Entry of the ray into this cell's box (slab method): the zone's near edge.
-      const V2 lo = lo_ + V2(float(x0) * float(res_), float(y0) * float(res_)), hi = lo + V2::Constant(float(res_));
-      float t0 = 0, t1 = max_distance;
-      for (int a = 0; a < 2; ++a) {
-        if (std::abs(d[a]) < 1e-9f) continue;
-        float ta = (lo[a] - origin[a]) / d[a], tb = (hi[a] - origin[a]) / d[a];
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::max(t0, ta), t1 = std::min(t1, tb);
-      }
-      // Bresenham may step diagonally past a corner the ray does not cross: take the cell's
-      // nearest point to the ray then (within a cell of the truth).
-      const float t = t0 <= t1 ? t0 : std::max(0.f, (0.5f * (lo + hi) - origin).dot(d) - 0.5f * float(res_));
-      if (t <= max_distance) return t;
+  float range = inf;
+  walkCells(x0, y0, x1, y1, [&](int32_t cx, int32_t cy) {
+    if (!at(cx, cy)) return false;
+    // Entry of the ray into this cell's box (slab method): the zone's near edge.
+    const V2 lo = lo_ + V2(float(cx) * float(res_), float(cy) * float(res_)), hi = lo + V2::Constant(float(res_));
+    float t0 = 0, t1 = max_distance;
+    for (int a = 0; a < 2; ++a) {
+      if (std::abs(d[a]) < 1e-9f) continue;
+      float ta = (lo[a] - origin[a]) / d[a], tb = (hi[a] - origin[a]) / d[a];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
     }
-    if (x0 == x1 && y0 == y1) break;
-    const int32_t e2 = 2 * err;
-    if (e2 >= dy) err += dy, x0 += sx;
-    if (e2 <= dx) err += dx, y0 += sy;
-  }
-  return inf;
+    // Bresenham may step diagonally past a corner the ray does not cross: take the cell's
+    // nearest point to the ray then (within a cell of the truth).
+    const float t = t0 <= t1 ? t0 : std::max(0.f, (0.5f * (lo + hi) - origin).dot(d) - 0.5f * float(res_));
+    if (t <= max_distance) range = t;
+    return t <= max_distance;
+  });
+  return range;
 }
 
 }  // namespace polyloc

@@ -1,3 +1,4 @@
+#include <polyloc/vrs/grid_walk.hpp>
 #include <polyloc/vrs/obstacle_memory.hpp>
 
 #include <cmath>
@@ -52,25 +53,20 @@ float ObstacleMemory::castRay(const Eigen::Vector2f& origin, float angle) const 
   const float inf = std::numeric_limits<float>::infinity();
   if (occupied_ == 0 || !origin.allFinite()) return inf;
   const double res = config_.resolution, reach = config_.max_distance;
-  int32_t x0 = int32_t(std::floor(origin.x() / res)), y0 = int32_t(std::floor(origin.y() / res));
+  const int32_t x0 = int32_t(std::floor(origin.x() / res)), y0 = int32_t(std::floor(origin.y() / res));
   const int32_t x1 = int32_t(std::floor((origin.x() + reach * std::cos(angle)) / res));
   const int32_t y1 = int32_t(std::floor((origin.y() + reach * std::sin(angle)) / res));
   // Bresenham from the robot's cell to the cell at max_distance; the first remembered point
   // (within reach) is the segment's range.
-  const int32_t dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
-  const int32_t sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-  int32_t err = dx + dy;
-  for (;;) {
-    if (const Cell* c = find(x0, y0)) {
-      const float d = std::hypot(c->x - origin.x(), c->y - origin.y());
-      if (d <= reach) return d;
-    }
-    if (x0 == x1 && y0 == y1) break;
-    const int32_t e2 = 2 * err;
-    if (e2 >= dy) err += dy, x0 += sx;
-    if (e2 <= dx) err += dx, y0 += sy;
-  }
-  return inf;
+  float range = inf;
+  walkCells(x0, y0, x1, y1, [&](int32_t cx, int32_t cy) {
+    const Cell* c = find(cx, cy);
+    if (!c) return false;
+    const float d = std::hypot(c->x - origin.x(), c->y - origin.y());
+    if (d <= reach) range = d;
+    return d <= reach;
+  });
+  return range;
 }
 
 std::vector<Eigen::Vector2f> ObstacleMemory::points() const {
