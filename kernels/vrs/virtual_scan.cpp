@@ -71,11 +71,12 @@ bool VirtualRangeScanner::inBody(float x, float y) const {
   return in;
 }
 
-bool VirtualRangeScanner::nearMoving(const Eigen::Vector2f& p) const {
+bool VirtualRangeScanner::nearMoving(const Eigen::Vector2f& p, int64_t stamp) const {
   const double s2 = config_.memory.track_sigmas * config_.memory.track_sigmas;
   const double r2 = config_.memory.track_radius * config_.memory.track_radius;
   for (size_t k = 0; k < moving_.size(); ++k) {
-    const Eigen::Vector2d d = p.cast<double>() - moving_[k].position;
+    const MovingObject& m = moving_[k];
+    const Eigen::Vector2d d = p.cast<double>() - (m.position + m.velocity * (double(stamp - m.stamp_ns) * 1e-9));
     if (d.squaredNorm() < r2 || d.dot(moving_info_[k] * d) < s2) return true;
   }
   return false;
@@ -215,7 +216,7 @@ VirtualScan VirtualRangeScanner::update(int64_t stamp, const Pose& map_T_base) {
         if (r > reach) { ++counters_.memory_far; continue; }
         if (!(r < plain_[size_t(i)] - margin)) { ++counters_.memory_behind; continue; }
         const Eigen::Vector2f q = p.head<2>();
-        if (!moving_.empty() && nearMoving(q)) { ++counters_.memory_moving; continue; }
+        if (!moving_.empty() && nearMoving(q, f.stamp)) { ++counters_.memory_moving; continue; }
         memory_.insert(q);
         ++counters_.memory_inserted;
       }

@@ -145,7 +145,7 @@ TEST(Vrs, MemoryFiltersFarBehindAndMoving) {
   const Pose base;
   // Points: far (5 m), behind the direct wall, and on a tracked person at (1, 1).
   const std::vector<Eigen::Vector3f> pts = {{5.0f, 0.f, 0.5f}, {1.0f, 1.0f, 0.5f}, {1.1f, 0.95f, 0.8f}, {-1.0f, 0.f, 0.5f}};
-  const MovingObject person{{1.0, 1.0}, Eigen::Matrix2d::Identity() * 0.01};
+  const MovingObject person{{1.0, 1.0}, {0.0, 0.0}, Eigen::Matrix2d::Identity() * 0.01, 0};
   vrs.setMovingObjects(std::span(&person, 1));
   vrs.addFrame(0, 0, base, cast(caster, rig.sensors[0], base));
   vrs.addPoints(1, 0, base, pts);

@@ -50,7 +50,7 @@ struct ObstacleMemoryConfig {
   // Tracked moving objects: points within this Mahalanobis distance of a track, or closer than
   // track_radius to its centre (a person's body is larger than the track's uncertainty), stay out.
   double track_sigmas = 3.0;
-  double track_radius = 0.4;      // m
+  double track_radius = 0.5;      // m: half a body with swinging arms, plus the lag of a frame
 };
 
 struct VrsConfig {

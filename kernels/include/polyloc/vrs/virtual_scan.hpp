@@ -48,10 +48,13 @@ struct VirtualScan {
   float angleOf(size_t i) const { return angle_min + (float(i) + 0.5f) * angle_increment; }
 };
 
-// A tracked moving object (tracking/): map-frame position and its 2x2 covariance.
+// A tracked moving object (tracking/): map-frame position at stamp_ns, velocity and the 2x2
+// position covariance. Frames of other stamps test against the position moved by the velocity.
 struct MovingObject {
   Eigen::Vector2d position{0, 0};
+  Eigen::Vector2d velocity{0, 0};
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity() * 0.01;
+  int64_t stamp_ns = 0;
 };
 
 struct VrsCounters {
@@ -95,7 +98,7 @@ class VirtualRangeScanner {
     bool fresh = false;  // not yet offered to the memory
   };
   bool inBody(float x, float y) const;
-  bool nearMoving(const Eigen::Vector2f& p) const;
+  bool nearMoving(const Eigen::Vector2f& p, int64_t stamp) const;
   void store(Frame& f, int64_t stamp, const Pose& map_T_base, const Pose& base_T_source, std::span<const Eigen::Vector3f> pts);
 
   VrsConfig config_;
