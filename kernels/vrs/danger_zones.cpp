@@ -113,8 +113,21 @@ float DangerZones::castRay(const Eigen::Vector2f& origin, float angle, float max
   const float inf = std::numeric_limits<float>::infinity();
   if (cells_.empty() || !origin.allFinite()) return inf;
   const V2 d(std::cos(angle), std::sin(angle));
-  const V2 end = origin + max_distance * d;
-  const int32_t x0 = int32_t(std::floor((origin.x() - lo_.x()) / res_)), y0 = int32_t(std::floor((origin.y() - lo_.y()) / res_));
+  // Only the part of the ray over the raster is walked (most rays miss it altogether).
+  const V2 hi_box = lo_ + V2(float(nx_) * float(res_), float(ny_) * float(res_));
+  float t_in = 0, t_out = max_distance;
+  for (int a = 0; a < 2; ++a) {
+    if (std::abs(d[a]) < 1e-9f) {
+      if (origin[a] < lo_[a] || origin[a] > hi_box[a]) return inf;
+      continue;
+    }
+    float ta = (lo_[a] - origin[a]) / d[a], tb = (hi_box[a] - origin[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t_in = std::max(t_in, ta), t_out = std::min(t_out, tb);
+  }
+  if (t_in > t_out) return inf;
+  const V2 start = origin + t_in * d, end = origin + t_out * d;
+  const int32_t x0 = int32_t(std::floor((start.x() - lo_.x()) / res_)), y0 = int32_t(std::floor((start.y() - lo_.y()) / res_));
   const int32_t x1 = int32_t(std::floor((end.x() - lo_.x()) / res_)), y1 = int32_t(std::floor((end.y() - lo_.y()) / res_));
   float range = inf;
   walkCells(x0, y0, x1, y1, [&](int32_t cx, int32_t cy) {

@@ -16,16 +16,21 @@ ObstacleMemory::ObstacleMemory(const ObstacleMemoryConfig& config) : config_(con
   if (!(config_.resolution > 0) || config_.cells < 8)
     throw std::invalid_argument("obstacle memory: resolution must be > 0 and cells >= 8");
   cells_.resize(size_t(config_.cells) * size_t(config_.cells));
+  if ((config_.cells & (config_.cells - 1)) == 0) mask_ = config_.cells - 1;
 }
 
 ObstacleMemory::Cell* ObstacleMemory::slot(int32_t cx, int32_t cy) {
+  return const_cast<Cell*>(&cellAt(cx, cy));
+}
+
+const ObstacleMemory::Cell& ObstacleMemory::cellAt(int32_t cx, int32_t cy) const {
   const int32_t n = config_.cells;
-  return &cells_[size_t(wrap(cy, n)) * size_t(n) + size_t(wrap(cx, n))];
+  if (mask_) return cells_[size_t(cy & mask_) * size_t(n) + size_t(cx & mask_)];
+  return cells_[size_t(wrap(cy, n)) * size_t(n) + size_t(wrap(cx, n))];
 }
 
 const ObstacleMemory::Cell* ObstacleMemory::find(int32_t cx, int32_t cy) const {
-  const int32_t n = config_.cells;
-  const Cell& c = cells_[size_t(wrap(cy, n)) * size_t(n) + size_t(wrap(cx, n))];
+  const Cell& c = cellAt(cx, cy);
   return c.cx == cx && c.cy == cy && alive(c) ? &c : nullptr;
 }
 
@@ -49,10 +54,11 @@ void ObstacleMemory::insert(const Eigen::Vector2f& p) {
   *c = Cell{cx, cy, p.x(), p.y(), clock_};
 }
 
-float ObstacleMemory::castRay(const Eigen::Vector2f& origin, float angle) const {
+float ObstacleMemory::castRay(const Eigen::Vector2f& origin, float angle, float limit) const {
   const float inf = std::numeric_limits<float>::infinity();
   if (occupied_ == 0 || !origin.allFinite()) return inf;
-  const double res = config_.resolution, reach = config_.max_distance;
+  // Past `limit` (what the direct sources already see) the memory cannot give a nearer range.
+  const double res = config_.resolution, reach = std::min<double>(config_.max_distance, limit + res);
   const int32_t x0 = int32_t(std::floor(origin.x() / res)), y0 = int32_t(std::floor(origin.y() / res));
   const int32_t x1 = int32_t(std::floor((origin.x() + reach * std::cos(angle)) / res));
   const int32_t y1 = int32_t(std::floor((origin.y() + reach * std::sin(angle)) / res));

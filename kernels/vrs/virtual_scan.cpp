@@ -178,44 +178,55 @@ VirtualScan VirtualRangeScanner::update(int64_t stamp, const Pose& map_T_base) {
   const float a0 = float(config_.angle_min), inc = float(config_.resolution);
   const int64_t max_age = int64_t(config_.max_age * 1e9);
   // The segment of a map point seen from the robot; -1 outside the band, the body or the range.
-  auto segment = [&](const Eigen::Vector3f& pm, float& r) -> int64_t {
+  const float two_pi = float(2 * M_PI);
+  auto segment = [&](const Eigen::Vector3f& pm, float& r) -> int32_t {
     const Eigen::Vector3f p = base_T_map.topLeftCorner<3, 3>() * pm + base_T_map.topRightCorner<3, 1>();
-    if (p.z() < zlo || p.z() > zhi || inBody(p.x(), p.y())) return -1;
-    r = std::hypot(p.x(), p.y());
-    if (r > rmax) return -1;
-    const float a = std::remainder(std::atan2(p.y(), p.x()) - a0, float(2 * M_PI));
-    const auto i = int64_t(std::floor((a < 0 ? a + float(2 * M_PI) : a) / inc));
+    if (p.z() < zlo || p.z() > zhi) return -1;
+    r = std::sqrt(p.x() * p.x() + p.y() * p.y());
+    if (r > rmax || inBody(p.x(), p.y())) return -1;
+    float a = std::atan2(p.y(), p.x()) - a0;
+    if (a < 0) a += two_pi;
+    if (a >= two_pi) a -= two_pi;
+    const auto i = int32_t(a / inc);
     return i >= 0 && size_t(i) < segments_ ? i : -1;
   };
 
+  // Each frame's points into segments once; the direct pass, then the memory filters.
   std::fill(direct_.begin(), direct_.end(), kInf);
   std::fill(plain_.begin(), plain_.end(), kInf);
   std::fill(far_.begin(), far_.end(), -kInf);
+  const bool memory_on = config_.memory.enabled;
   for (Frame& f : frames_) {
-    if (!usesDirect(f.mode) || f.points.empty() || stamp - f.stamp > max_age) continue;
-    for (const auto& p : f.points) {
-      float r = 0;
-      const int64_t i = segment(p, r);
-      if (i < 0) continue;
-      direct_[size_t(i)] = std::min(direct_[size_t(i)], r);
-      far_[size_t(i)] = std::max(far_[size_t(i)], r);
-      if (f.mode == VrsMode::Direct) plain_[size_t(i)] = std::min(plain_[size_t(i)], r);
+    const bool direct = usesDirect(f.mode) && stamp - f.stamp <= max_age;
+    const bool memory = memory_on && usesMemory(f.mode) && f.fresh;
+    f.seg.clear(), f.range.clear();
+    if (!direct && !memory) continue;
+    f.seg.resize(f.points.size()), f.range.resize(f.points.size());
+    for (size_t k = 0; k < f.points.size(); ++k) f.seg[k] = segment(f.points[k], f.range[k]);
+    if (!direct) continue;
+    for (size_t k = 0; k < f.points.size(); ++k) {
+      if (f.seg[k] < 0) continue;
+      const auto i = size_t(f.seg[k]);
+      const float r = f.range[k];
+      direct_[i] = std::min(direct_[i], r);
+      far_[i] = std::max(far_[i], r);
+      if (f.mode == VrsMode::Direct) plain_[i] = std::min(plain_[i], r);
     }
   }
   // Memory filters (thesis 6.2.2): a point enters only if it is nearer than what the direct-only
-  // sources (horizontal scanners) see in its segment, within max_distance, in the height band, and not on a person.
-  if (config_.memory.enabled) {
+  // sources (horizontal scanners) see in its segment, within max_distance, in the height band
+  // (segment() above), and not on a tracked person.
+  if (memory_on) {
     const float reach = float(config_.memory.max_distance), margin = float(config_.memory.direct_margin);
     for (Frame& f : frames_) {
-      if (!usesMemory(f.mode) || !f.fresh) continue;
+      if (!usesMemory(f.mode) || !f.fresh || f.seg.size() != f.points.size()) continue;
       f.fresh = false;
-      for (const auto& p : f.points) {
-        float r = 0;
-        const int64_t i = segment(p, r);
-        if (i < 0) continue;
+      for (size_t k = 0; k < f.points.size(); ++k) {
+        if (f.seg[k] < 0) continue;
+        const float r = f.range[k];
         if (r > reach) { ++counters_.memory_far; continue; }
-        if (!(r < plain_[size_t(i)] - margin)) { ++counters_.memory_behind; continue; }
-        const Eigen::Vector2f q = p.head<2>();
+        if (!(r < plain_[size_t(f.seg[k])] - margin)) { ++counters_.memory_behind; continue; }
+        const Eigen::Vector2f q = f.points[k].head<2>();
         if (!moving_.empty() && nearMoving(q, f.stamp)) { ++counters_.memory_moving; continue; }
         memory_.insert(q);
         ++counters_.memory_inserted;
@@ -229,12 +240,12 @@ VirtualScan VirtualRangeScanner::update(int64_t stamp, const Pose& map_T_base) {
     uint8_t src = std::isfinite(r) ? kVrsDirect : kVrsNone;
     const float angle = yaw + out.angleOf(i);
     if (config_.memory.enabled) {
-      const float m = memory_.castRay(origin, angle);
+      const float m = memory_.castRay(origin, angle, std::min(r, rmax));
       if (m < r) r = m, src = kVrsMemory;
       else if (m == r && std::isfinite(m)) src |= kVrsMemory;
     }
     if (!danger_.empty()) {
-      const float d = danger_.castRay(origin, angle, rmax);
+      const float d = danger_.castRay(origin, angle, std::min(r, rmax));
       if (d < r) r = d, src = kVrsDanger;
       else if (d == r && std::isfinite(d)) src |= kVrsDanger;
     }

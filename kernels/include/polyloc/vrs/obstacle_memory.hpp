@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -25,9 +26,9 @@ class ObstacleMemory {
   // A point (map frame, x/y) enters or refreshes its cell.
   void insert(const Eigen::Vector2f& p);
   // Nearest remembered point along the ray from `origin` in direction `angle` (map frame), walked
-  // cell by cell (Bresenham) up to max_distance; +inf when none. Returns the distance of the
-  // stored point from origin.
-  float castRay(const Eigen::Vector2f& origin, float angle) const;
+  // cell by cell (Bresenham) up to min(limit, max_distance); +inf when none. Returns the
+  // distance of the stored point from origin.
+  float castRay(const Eigen::Vector2f& origin, float angle, float limit = INFINITY) const;
   // Every remembered point (for plots and tests).
   std::vector<Eigen::Vector2f> points() const;
   size_t size() const { return occupied_; }
@@ -42,10 +43,12 @@ class ObstacleMemory {
   };
   Cell* slot(int32_t cx, int32_t cy);
   const Cell* find(int32_t cx, int32_t cy) const;
+  const Cell& cellAt(int32_t cx, int32_t cy) const;
   bool alive(const Cell& c) const { return c.seen >= 0 && clock_ - c.seen <= config_.lifetime; }
 
   ObstacleMemoryConfig config_;
   std::vector<Cell> cells_;
+  int32_t mask_ = 0;  // cells - 1 when cells is a power of two (the default): wrap by masking
   size_t occupied_ = 0;
   double clock_ = 0;
 };

@@ -96,6 +96,8 @@ class VirtualRangeScanner {
     std::vector<Eigen::Vector3f> points;  // map frame
     VrsMode mode = VrsMode::Off;
     bool fresh = false;  // not yet offered to the memory
+    std::vector<int32_t> seg;   // per point at the last update: segment, -1 not in the scan
+    std::vector<float> range;   // and its planar range
   };
   bool inBody(float x, float y) const;
   bool nearMoving(const Eigen::Vector2f& p, int64_t stamp) const;
