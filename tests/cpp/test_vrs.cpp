@@ -4,6 +4,7 @@
 
 #include <polyloc/config/yaml.hpp>
 #include <polyloc/mapgen/builder.hpp>
+#include <polyloc/sim/vrs_truth.hpp>
 #include <polyloc/vrs/config_yaml.hpp>
 #include <polyloc/vrs/virtual_scan.hpp>
 
@@ -265,4 +266,21 @@ TEST(VrsConfigYaml, KeysDefaultsAndErrors) {
   EXPECT_NE(error("vrs:\n  danger_zones: [[[0, 0], [1, 0]]]\n").find("3 corners"), std::string::npos);
   EXPECT_NE(error("vrs:\n  memory: {max_distance: 50}\n").find("max_distance"), std::string::npos);
   EXPECT_NE(error("vrs:\n  resolution: 1\n").find("t.yaml"), std::string::npos - 1);
+}
+
+TEST(VrsTruth, NearestSurfaceInTheBandPerSegment) {
+  Mesh room = boxRoom(4.f, 3.f, 2.5f, 0.2f);
+  mapgen::MeshBuilder b(room);
+  b.box({1.2f, -1.0f, 0.715f}, {2.0f, 1.0f, 0.75f}, "table");  // a 3.5 cm top: found between heights
+  b.box({-2.0f, -0.5f, 1.5f}, {-1.9f, 0.5f, 1.6f}, "beam");   // above robot_height: not there
+  EmbreeCaster caster(room);
+  People people({});
+  VrsConfig cfg;
+  const std::vector<float> r = trueVirtualScan(caster, people.scene(0, {0, 0}), Pose::planar(0.2, 0, 0), cfg);
+  ASSERT_EQ(r.size(), 720u);
+  EXPECT_NEAR(r[360], 1.0, 0.005);   // ahead: the table edge
+  EXPECT_NEAR(r[0], 4.2, 0.005);     // behind: the wall, not the beam
+  EXPECT_NEAR(r[540], 3.0, 0.005);   // left
+  cfg.range_max = 2.0;
+  EXPECT_FALSE(std::isfinite(trueVirtualScan(caster, people.scene(0, {0, 0}), Pose::planar(0.2, 0, 0), cfg)[0]));
 }
