@@ -1,5 +1,6 @@
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
+#include <polyloc/tracking/config_yaml.hpp>
 
 #include <filesystem>
 
@@ -37,6 +38,7 @@ PolylocConfig loadConfig(const std::string& path) {
   c.robot = parseRobot(m.map("robot"));
   c.rig = readRig(m.value("rig"), m);
   if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"));
+  if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), &c.rig);
   m.finish();
   return c;
 }
