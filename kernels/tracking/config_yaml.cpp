@@ -30,6 +30,8 @@ void parseMotion(ConfigMap m, MotionConfig& c) {
   const int64_t w = m.getInt("window_beams", c.window_beams);
   if (w < 0 || w > 50) m.value("window_beams").fail("must be between 0 and 50");
   c.window_beams = int(w);
+  c.jump_distance = m.getDouble("jump_distance", c.jump_distance, 0, 1000);
+  c.jump_angle = m.getAngle("jump_angle", c.jump_angle);
   c.max_moved_fraction = m.getDouble("max_moved_fraction", c.max_moved_fraction, 0, 1);
   m.finish();
 }
@@ -55,7 +57,6 @@ void parseTracker(ConfigMap m, TrackerConfig& c) {
   c.confirm_time = m.getDouble("confirm_time", c.confirm_time, 0, 3600);
   c.confirm_distance = m.getDouble("confirm_distance", c.confirm_distance, 0, 100);
   c.timeout = m.getDouble("timeout", c.timeout, 0, 3600);
-  c.hidden_timeout = m.getDouble("hidden_timeout", c.hidden_timeout, 0, 3600);
   c.empty_timeout = m.getDouble("empty_timeout", c.empty_timeout, 0, 3600);
   c.empty_radius = m.getDouble("empty_radius", c.empty_radius, 0, 10);
   c.max_sigma = m.getDouble("max_sigma", c.max_sigma, 1e-3, 100);

@@ -90,18 +90,7 @@ std::vector<const MotionDetector::Scan*> MotionDetector::references(int64_t stam
   return out;
 }
 
-ScanCheck MotionDetector::detect(int64_t stamp_ns, const Pose& map_T_sensor, std::span<const float> ranges,
-                                 std::vector<MotionPoint>& out) {
-  ScanCheck check = ScanCheck::Ok;
-  if (ranges.size() != beams_) check = ScanCheck::WrongSize;
-  else if (!map_T_sensor.translation().allFinite() || !map_T_sensor.rotation().coeffs().allFinite())
-    check = ScanCheck::BadPose;
-  else if (!history_.empty() && stamp_ns <= history_.back().stamp_ns) check = ScanCheck::OutOfOrder;
-  if (check != ScanCheck::Ok) {
-    ++counters_.rejected;
-    return check;
-  }
-  ++counters_.scans;
+MotionDetector::Scan MotionDetector::makeScan(int64_t stamp_ns, const Pose& map_T_sensor, std::span<const float> ranges) {
   Scan cur;
   cur.stamp_ns = stamp_ns;
   cur.map_T_sensor = map_T_sensor;
@@ -125,73 +114,106 @@ ScanCheck MotionDetector::detect(int64_t stamp_ns, const Pose& map_T_sensor, std
     cur.free[i] = r;
     if (r >= near && r <= c_.max_range) cur.ends[i] = map_T_sensor * Eigen::Vector3d(r * cos_[i], r * sin_[i], 0.0);
   }
+  return cur;
+}
 
-  const std::vector<const Scan*> refs = references(stamp_ns);
-  std::vector<double> turn;  // extra angular window per reference: heading error grows with turning
+MotionDetector::Marks MotionDetector::appeared(const Scan& cur, const std::vector<const Scan*>& refs) const {
+  Marks m;
+  m.moved.assign(beams_, 0);
+  m.seen_since.assign(beams_, cur.stamp_ns);
+  std::vector<double> widen;  // extra angular window per reference: heading error grows with motion
   for (const Scan* r : refs)
-    turn.push_back(c_.turn_margin * std::abs(angleDiff(map_T_sensor.yaw(), r->map_T_sensor.yaw())) +
-                   c_.travel_margin * (map_T_sensor.translation() - r->map_T_sensor.translation()).head<2>().norm());
-  std::vector<char> moved(beams_, 0);
-  std::vector<int64_t> seen_since(beams_, stamp_ns);  // stamp of the oldest reference that saw the point
-  size_t compared = 0;
+    widen.push_back(c_.turn_margin * std::abs(angleDiff(cur.map_T_sensor.yaw(), r->map_T_sensor.yaw())) +
+                    c_.travel_margin * (cur.map_T_sensor.translation() - r->map_T_sensor.translation()).head<2>().norm());
   for (size_t i = 0; i < beams_; ++i) {
     if (!cur.ends[i].allFinite()) continue;
-    ++compared;
+    ++m.compared;
     // Oldest reference first: the point moved in if it was free space and, once something was
     // there, stayed there. Free again after a hit means it comes and goes: a surface that the
     // scan plane grazes, not an object that arrived.
     bool free = false, hit = false, flicker = false;
     for (size_t k = 0; k < refs.size(); ++k) {
-      const Scan* r = refs[k];
-      const Seen s = classify(*r, cur.ends[i], nullptr, nullptr, -1, turn[k]);
+      const Seen s = classify(*refs[k], cur.ends[i], nullptr, nullptr, -1, widen[k]);
       if (s == Seen::Free) flicker = flicker || hit, free = true;
-      if (s == Seen::Hit) hit = true, seen_since[i] = std::min(seen_since[i], r->stamp_ns);
+      if (s == Seen::Hit) hit = true, m.seen_since[i] = std::min(m.seen_since[i], refs[k]->stamp_ns);
     }
-    moved[i] = free && !flicker;
+    m.moved[i] = free && !flicker;
   }
-  // Walking away: the beam passes where a reference ended (vacated) and ends a little behind.
+  return m;
+}
+
+void MotionDetector::receded(const Scan& cur, const std::vector<const Scan*>& refs, Marks& m) const {
   for (const Scan* r : refs) {
-    const double reach = std::min(c_.recede_max, c_.max_speed * double(stamp_ns - r->stamp_ns) * 1e-9);
+    const double reach = std::min(c_.recede_max, c_.max_speed * double(cur.stamp_ns - r->stamp_ns) * 1e-9);
     for (const Eigen::Vector3d& e : r->ends) {
-      if (!e.allFinite() || static_->isStatic(e.head<2>(), stamp_ns)) continue;
+      if (!e.allFinite() || static_->isStatic(e.head<2>(), cur.stamp_ns)) continue;
       int k = -1;
       double d = 0;
-      if (classify(cur, e, &k, &d) != Seen::Free) continue;
+      if (classify(cur, e, &k, &d) != Seen::Free) continue;  // the beam now passes where r's ended
       const size_t j = size_t(k);
       // Already there when the reference was taken: something static that the vacated point
       // hid at times (a board the scan plane grazes in front of a panel), not the object.
-      if (moved[j] || seen_since[j] <= r->stamp_ns || !cur.ends[j].allFinite()) continue;
+      if (m.moved[j] || m.seen_since[j] <= r->stamp_ns || !cur.ends[j].allFinite()) continue;
       if (double(cur.free[j]) - d > reach) continue;
       // ... and the reference must have been blind there because of what it saw in front (the
       // object itself); a point it could not see at all (outside its field of view) says nothing.
-      if (classify(*r, cur.ends[j], nullptr, nullptr) == Seen::Occluded) moved[j] = 1;
+      if (classify(*r, cur.ends[j], nullptr, nullptr) == Seen::Occluded) m.moved[j] = 1;
     }
   }
+}
+
+void MotionDetector::grow(const Scan& cur, const std::vector<const Scan*>& refs, const Marks& m,
+                          std::vector<MotionPoint>& out) const {
+  if (!(c_.grow_distance > 0) || refs.empty()) return;
+  const Eigen::Vector2d origin = cur.map_T_sensor.translation().head<2>();
+  const int64_t oldest = refs.front()->stamp_ns;
+  for (size_t j = 0; j < beams_; ++j) {
+    if (m.moved[j] || !cur.ends[j].allFinite() || m.seen_since[j] <= oldest) continue;
+    const long w = long(std::ceil(std::atan2(c_.grow_distance, double(cur.free[j])) / spec_.resolution_rad)) + 1;
+    bool near_seed = false;
+    for (long i = std::max(0L, long(j) - w); i <= std::min(long(beams_) - 1, long(j) + w) && !near_seed; ++i)
+      near_seed = m.moved[size_t(i)] && (cur.ends[size_t(i)] - cur.ends[j]).head<2>().norm() <= c_.grow_distance;
+    if (near_seed && !static_->isStatic(cur.ends[j].head<2>(), cur.stamp_ns))
+      out.push_back({cur.ends[j].head<2>(), origin, false});
+  }
+}
+
+ScanCheck MotionDetector::detect(int64_t stamp_ns, const Pose& map_T_sensor, std::span<const float> ranges,
+                                 std::vector<MotionPoint>& out) {
+  ScanCheck check = ScanCheck::Ok;
+  if (ranges.size() != beams_) check = ScanCheck::WrongSize;
+  else if (!map_T_sensor.translation().allFinite() || !map_T_sensor.rotation().coeffs().allFinite())
+    check = ScanCheck::BadPose;
+  else if (!history_.empty() && stamp_ns <= history_.back().stamp_ns) check = ScanCheck::OutOfOrder;
+  if (check != ScanCheck::Ok) {
+    ++counters_.rejected;
+    return check;
+  }
+  ++counters_.scans;
+  Scan cur = makeScan(stamp_ns, map_T_sensor, ranges);
+  if (!history_.empty()) {
+    const Pose step = history_.back().sensor_T_map * map_T_sensor;
+    if (step.translation().norm() > c_.jump_distance ||
+        Eigen::AngleAxisd(step.rotation()).angle() > c_.jump_angle) {
+      ++counters_.pose_jumps;
+      history_.clear();
+    }
+  }
+  const std::vector<const Scan*> refs = references(stamp_ns);
+  Marks m = appeared(cur, refs);
+  receded(cur, refs, m);
   for (size_t i = 0; i < beams_; ++i)
-    if (moved[i] && static_->isStatic(cur.ends[i].head<2>(), stamp_ns)) moved[i] = 0;
-  const size_t n_moved = size_t(std::count(moved.begin(), moved.end(), 1));
-  if (compared > 0 && double(n_moved) > c_.max_moved_fraction * double(compared)) {
-    ++counters_.pose_jumps;
+    if (m.moved[i] && static_->isStatic(cur.ends[i].head<2>(), stamp_ns)) m.moved[i] = 0;
+  const size_t n_moved = size_t(std::count(m.moved.begin(), m.moved.end(), 1));
+  if (m.compared > 0 && double(n_moved) > c_.max_moved_fraction * double(m.compared)) {
+    ++counters_.pose_jumps;  // the references no longer fit the pose: start over from this scan
     history_.clear();
   } else {
     counters_.moved_points += n_moved;
     const Eigen::Vector2d origin = map_T_sensor.translation().head<2>();
     for (size_t i = 0; i < beams_; ++i)
-      if (moved[i]) out.push_back({cur.ends[i].head<2>(), origin, true});
-    // The object's other points: near a moved one, not static, and not there in the oldest
-    // reference (a person's other leg, hidden from every reference by the person walking away).
-    if (c_.grow_distance > 0 && !refs.empty()) {
-      const int64_t oldest = refs.front()->stamp_ns;
-      for (size_t j = 0; j < beams_; ++j) {
-        if (moved[j] || !cur.ends[j].allFinite() || seen_since[j] <= oldest) continue;
-        const double r = cur.free[j];
-        const long w = long(std::ceil(std::atan2(c_.grow_distance, r) / spec_.resolution_rad)) + 1;
-        bool near_seed = false;
-        for (long i = std::max(0L, long(j) - w); i <= std::min(long(beams_) - 1, long(j) + w) && !near_seed; ++i)
-          near_seed = moved[size_t(i)] && (cur.ends[size_t(i)] - cur.ends[j]).head<2>().norm() <= c_.grow_distance;
-        if (near_seed && !static_->isStatic(cur.ends[j].head<2>(), stamp_ns)) out.push_back({cur.ends[j].head<2>(), origin, false});
-      }
-    }
+      if (m.moved[i]) out.push_back({cur.ends[i].head<2>(), origin, true});
+    grow(cur, refs, m, out);
   }
   for (size_t i = 0; i < beams_; ++i)
     if (cur.ends[i].allFinite()) static_->hit(cur.ends[i].head<2>(), stamp_ns);

@@ -125,8 +125,7 @@ bool MultiTargetTracker::update(int64_t stamp_ns, std::span<const Detection> det
     const double age = double(stamp_ns - t.first_ns) * 1e-9;
     const double sigma = std::sqrt(std::max(0.0, t.kf.positionCov().eigenvalues().real().maxCoeff()));
     const bool unconfirmed = t.status == TrackStatus::Tentative && age > c_.confirm_time;
-    const double limit = v == Visibility::Hidden ? std::max(c_.timeout, c_.hidden_timeout) : c_.timeout;
-    if (idle > limit || empty > c_.empty_timeout || sigma > c_.max_sigma || unconfirmed) dropped.push_back(t);
+    if (idle > c_.timeout || empty > c_.empty_timeout || sigma > c_.max_sigma || unconfirmed) dropped.push_back(t);
     else live.push_back(t);
   }
   tracks_ = std::move(live);

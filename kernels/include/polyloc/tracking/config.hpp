@@ -35,8 +35,11 @@ struct MotionConfig {
   double turn_margin = 0.03;
   double travel_margin = 0.0;
   int window_beams = 1;         // beams either side of the bearing that must also be free (at least)
-  // A scan in which more than this share of the compared points moved is dropped and the
-  // references are forgotten: the pose jumped (relocalisation), not the world.
+  // The pose jumped (relocalisation), not the world: the references are forgotten and the scan
+  // gives no motion when the pose moved more than jump_distance or turned more than jump_angle
+  // since the previous scan, or when more than max_moved_fraction of the compared points moved.
+  double jump_distance = 0.3;   // m
+  double jump_angle = 0.349065850398866;  // rad (20 deg)
   double max_moved_fraction = 0.5;
 };
 
@@ -61,8 +64,7 @@ struct TrackerConfig {
   // flickering spot gives detections at one place; a walking person leaves it.
   double confirm_distance = 0.3;
   double timeout = 1.0;             // s without a detection: a track is dropped ...
-  double hidden_timeout = 2.0;      // s: ... unless the scanners cannot see its place (behind someone)
-  double empty_timeout = 0.2;       // s: ... or sooner when they see its place empty
+  double empty_timeout = 0.2;       // s: ... sooner when the scanners see its place empty
   double empty_radius = 0.3;        // m: the place is the disc of this radius around the track
   double max_sigma = 0.6;           // m: a track whose position std grows past this is dropped
   double init_speed_sigma = 1.0;    // m/s: velocity std of a new track (velocity starts at 0)

@@ -1,16 +1,20 @@
-// Motion detection for one level planar scanner: each scan's endpoints are compared with the free
-// space of a few earlier scans (MotionConfig::reference_ages), ego-motion removed through the
-// sensor's pose per scan (map_T_sensor from localisation, or odom_T_sensor from odometry).
+// Motion detection for one level planar scanner: each scan's endpoints are compared with the
+// free space of a few earlier scans of it (MotionConfig::reference_ages), ego-motion removed
+// through the sensor's pose per scan (map_T_sensor from localisation, or odom_T_sensor from
+// odometry). An endpoint has moved (a seed) when
 //
-// An endpoint has moved when, seen from an earlier scan, it lies inside that scan's free space
-// by the margin band: every beam within a small angular window around its bearing passed it by
-// `margin + margin_per_m * range`, and no older reference saw something there (a surface that
-// comes and goes is grazed by the scan plane, as the robot rolls). An endpoint the earlier scan could not see (behind something,
-// outside the field of view, an invalid beam) is not motion: that is the laser shadow a moving
-// robot looks into. One exception: an object walking straight away stays in its own shadow, so
-// an endpoint also counts when the beam now passes where an earlier endpoint was (vacated) and
-// ends no farther behind it than max_speed * age (and recede_max), where that reference could
-// not see because of what it saw in front, and no reference as old saw the endpoint already. Places that StaticMemory finds static are never motion.
+// - appeared: an earlier scan saw free space there, with the margin band: every beam in a small
+//   angular window around the bearing passed it by margin + margin_per_m * range; and no older
+//   scan saw something there (a surface that comes and goes is grazed by the scan plane as the
+//   robot rolls). A point an earlier scan could not see (behind something, out of view, an
+//   invalid beam) is not motion: that is the laser shadow a moving robot looks into;
+// - or receded: an object walking straight away stays in its own shadow, so a point also counts
+//   when the beam now passes where an earlier scan's endpoint was (vacated), ends at most
+//   max_speed * age (and recede_max) behind it, where that scan was blind because of what it saw
+//   in front, and no scan as old saw the point;
+//
+// and StaticMemory does not know the place as static. Endpoints near a seed that are not static
+// and were not there in the oldest reference join it (the other leg of a person).
 #pragma once
 
 #include <polyloc/geometry/pose.hpp>
@@ -74,6 +78,15 @@ class MotionDetector {
   Seen classify(const Scan& s, const Eigen::Vector3d& p, int* beam, double* dist, double margin = -1,
                 double extra_rad = 0) const;
   std::vector<const Scan*> references(int64_t stamp_ns) const;  // oldest first
+  struct Marks {
+    std::vector<char> moved;           // per beam of the scan: a seed
+    std::vector<int64_t> seen_since;   // stamp of the oldest reference that saw the point there
+    size_t compared = 0;               // endpoints compared
+  };
+  Scan makeScan(int64_t stamp_ns, const Pose& map_T_sensor, std::span<const float> ranges);
+  Marks appeared(const Scan& cur, const std::vector<const Scan*>& refs) const;
+  void receded(const Scan& cur, const std::vector<const Scan*>& refs, Marks& m) const;
+  void grow(const Scan& cur, const std::vector<const Scan*>& refs, const Marks& m, std::vector<MotionPoint>& out) const;
 
   PlanarScannerSpec spec_;
   MotionConfig c_;

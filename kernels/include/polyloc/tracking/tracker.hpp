@@ -2,8 +2,8 @@
 // detections gated by Mahalanobis distance and assigned to tracks with the Hungarian method.
 // A track starts tentative at an unassigned detection, is confirmed after confirm_hits
 // detections within confirm_time once it moved confirm_distance from its start, and is dropped after `timeout` without a detection or when
-// its position uncertainty grows past max_sigma; longer while its place is hidden from the
-// sensors, sooner once they see it empty.
+// its position uncertainty grows past max_sigma; sooner once the sensors see its place empty
+// (the person is gone, or turned away from the prediction).
 //
 //   MultiTargetTracker tracker(config.tracker);
 //   tracker.update(stamp_ns, detections);
@@ -55,8 +55,7 @@ class MultiTargetTracker {
 
   // Predicts every track to stamp_ns, assigns the detections, updates, starts, confirms and drops
   // tracks. `seen` tells what the sensors saw at a predicted place: a track without a detection
-  // is kept hidden_timeout while its place is Hidden, and dropped after empty_timeout once it is
-  // Empty. A stamp before the last update is ignored (returns false); non-finite detections
+  // whose place has been Empty for empty_timeout is dropped. A stamp before the last update is ignored (returns false); non-finite detections
   // are skipped.
   bool update(int64_t stamp_ns, std::span<const Detection> detections, const VisibilityFn& seen = {});
   const Tracks& tracks() const { return snapshot_; }
