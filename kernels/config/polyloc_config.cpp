@@ -1,6 +1,7 @@
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
 #include <polyloc/vrs/config_yaml.hpp>
+#include <polyloc/tracking/config_yaml.hpp>
 
 #include <filesystem>
 
@@ -40,6 +41,7 @@ PolylocConfig loadConfig(const std::string& path) {
   if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"));
   c.vrs.robot_height = c.robot.height;
   if (m.has("vrs")) c.vrs = parseVrsConfig(m.map("vrs"), c.robot.height);
+  if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), &c.rig);
   m.finish();
   return c;
 }

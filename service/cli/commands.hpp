@@ -14,6 +14,7 @@ void registerInfo(CLI::App& app);         // polyloc info FILE          (cmd_inf
 void registerSimulate(CLI::App& app);     // polyloc simulate ...       (cmd_simulate.cpp)
 void registerLocalize(CLI::App& app);     // polyloc localize ...       (cmd_localize.cpp)
 void registerBenchMcl(CLI::App& bench);   // polyloc bench mcl ...      (cmd_bench_mcl.cpp)
-void registerEval(CLI::App& app);         // polyloc eval global|kidnap (cmd_eval.cpp)
+void registerEval(CLI::App& app);         // polyloc eval global|kidnap|tracking (cmd_eval.cpp)
+void registerEvalTracking(CLI::App& eval); // polyloc eval tracking ...  (cmd_eval_tracking.cpp)
 
 }  // namespace polyloc::cli

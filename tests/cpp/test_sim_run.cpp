@@ -36,7 +36,7 @@ std::string runDump(const Scenario& s, const Mesh& map) {
 // Every 5 cm of every route, and at every stop in all headings, the robot's outline is free of
 // walls and furniture (moved chairs included) at body heights (the floor excluded).
 TEST(SimRun, BundledRoutesAreCollisionFree) {
-  for (const char* name : {"lab_tour", "office_patrol", "ramp_6dof"}) {
+  for (const char* name : {"lab_tour", "office_patrol", "ramp_6dof", "crowd"}) {
     const Scenario s = bundled(name);
     Simulator sim(s, loadScenarioMap(s));
     const RobotSpec& robot = s.config.robot;
@@ -72,7 +72,7 @@ TEST(SimRun, BundledRoutesAreCollisionFree) {
 // People walk past and around the robot, never into it (their bodies reach 0.3 m from their
 // centre line with the arms swinging).
 TEST(SimRun, BundledPeopleKeepClearOfTheRobot) {
-  for (const char* name : {"lab_tour", "office_patrol", "ramp_6dof"}) {
+  for (const char* name : {"lab_tour", "office_patrol", "ramp_6dof", "crowd"}) {
     const Scenario s = bundled(name);
     Simulator sim(s, loadScenarioMap(s));
     const double reach = s.config.robot.boundingRadius() + 0.3;
@@ -86,6 +86,23 @@ TEST(SimRun, BundledPeopleKeepClearOfTheRobot) {
     }
     EXPECT_GT(closest, reach) << name;
   }
+}
+
+// The crowd walks round loops in lanes: nobody walks through anybody (bodies about 0.5 m wide).
+TEST(SimRun, CrowdPeopleKeepApart) {
+  const Scenario s = bundled("crowd");
+  Simulator sim(s, loadScenarioMap(s));
+  double closest = 1e9;
+  for (double t = 0; t <= sim.duration(); t += 0.02) {
+    const PlanarState r = sim.trajectory().at(t);
+    for (size_t i = 0; i < sim.people().size(); ++i)
+      for (size_t j = i + 1; j < sim.people().size(); ++j) {
+        const PersonState a = sim.people().state(i, t, {r.x, r.y}), b = sim.people().state(j, t, {r.x, r.y});
+        if (a.present && b.present) closest = std::min(closest, std::hypot(a.x - b.x, a.y - b.y));
+      }
+  }
+  EXPECT_GT(closest, 0.6);
+  EXPECT_EQ(sim.people().size(), 8u);
 }
 
 TEST(SimRun, SameSeedSameBytesDifferentSeedDifferent) {

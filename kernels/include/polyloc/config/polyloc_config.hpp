@@ -1,12 +1,13 @@
 // The polyloc configuration file (maps/config/lab.yaml, office.yaml): one YAML file with a
-// section per concept. Today: map, robot, rig; later issues add mcl, vrs, tracking sections
-// (add their parsers to loadConfig, so unknown sections stay errors).
+// section per concept: map, robot, rig, mcl, tracking; later issues add vrs (add its parser to
+// loadConfig, so unknown sections stay errors).
 //
 //   map: ../lab.obj                   # or {file: ..., scale: 1.0, up_axis: z}
 //   robot: {...}                      # polyloc/config/robot.hpp
 //   rig: ../rigs/lisa.yaml            # a preset name, a rig file, or inline (sensors/rig.hpp)
 //   mcl: {...}                        # polyloc/mcl/config_yaml.hpp, docs/localization.md
 //   vrs: {...}                        # polyloc/vrs/config_yaml.hpp, docs/vrs.md
+//   tracking: {...}                   # polyloc/tracking/config_yaml.hpp, docs/tracking.md
 #pragma once
 
 #include <polyloc/config/robot.hpp>
@@ -15,6 +16,7 @@
 #include <polyloc/mcl/config.hpp>
 #include <polyloc/sensors/rig.hpp>
 #include <polyloc/vrs/config.hpp>
+#include <polyloc/tracking/config.hpp>
 
 #include <string>
 
@@ -32,6 +34,7 @@ struct PolylocConfig {
   Rig rig;
   MclConfig mcl;  // `mcl:` section (polyloc/mcl/config_yaml.hpp); defaults when absent
   VrsConfig vrs;  // `vrs:` section (polyloc/vrs/config_yaml.hpp); robot_height from robot.height
+  TrackingConfig tracking;  // `tracking:` section (polyloc/tracking/config_yaml.hpp); defaults when absent
 };
 
 // Throws ConfigError naming file, line and key (also when the map file does not exist).
