@@ -71,6 +71,7 @@ VrsConfig parseVrsConfig(ConfigMap m, double robot_height) {
     o.lifetime = mm.getDouble("lifetime", o.lifetime, 0, 1e6);
     o.moving_speed = mm.getDouble("moving_speed", o.moving_speed, 0, 100);
     o.moving_turn_rate = mm.getAngle("moving_turn_rate", o.moving_turn_rate);
+    o.delay = mm.getDouble("delay", o.delay, 0, 60);
     o.track_sigmas = mm.getDouble("track_sigmas", o.track_sigmas, 0, 100);
     o.track_radius = mm.getDouble("track_radius", o.track_radius, 0, 100);
     if (o.max_distance > 0.5 * o.resolution * o.cells)

@@ -143,11 +143,22 @@ bool VirtualRangeScanner::addCone(size_t cone, int64_t stamp, const Pose& map_T_
 }
 
 void VirtualRangeScanner::setMovingObjects(std::span<const MovingObject> objects) {
-  moving_.assign(objects.begin(), objects.end());
-  moving_info_.clear();
-  for (const auto& m : moving_) {
+  // Sets of the last memory.delay + 1 s are kept: a waiting candidate is tested against the set
+  // nearest its own time (moving along a curve, a track moved back in a line drifts off), and
+  // against later ones (the tracker confirms a person some frames after they were first seen).
+  int64_t newest = std::numeric_limits<int64_t>::min();
+  for (const auto& m : objects) newest = std::max(newest, m.stamp_ns);
+  const int64_t keep = int64_t((config_.memory.delay + 1.0) * 1e9);
+  size_t kept = 0;
+  for (size_t k = 0; k < moving_.size(); ++k)
+    if (!objects.empty() && newest != 0 && moving_[k].stamp_ns != 0 && moving_[k].stamp_ns >= newest - keep &&
+        moving_[k].stamp_ns < newest)
+      moving_[kept] = moving_[k], moving_info_[kept] = moving_info_[k], ++kept;
+  moving_.resize(kept), moving_info_.resize(kept);
+  for (const auto& m : objects) {
     Eigen::Matrix2d c = m.covariance;
     if (!c.allFinite() || c.determinant() <= 1e-12) c = Eigen::Matrix2d::Identity() * 1e-4;
+    moving_.push_back(m);
     moving_info_.push_back(c.inverse());
   }
 }
@@ -215,7 +226,7 @@ VirtualScan VirtualRangeScanner::update(int64_t stamp, const Pose& map_T_base) {
   }
   // Memory filters (thesis 6.2.2): a point enters only if it is nearer than what the direct-only
   // sources (horizontal scanners) see in its segment, within max_distance, in the height band
-  // (segment() above), and not on a tracked person.
+  // (segment() above), and, after memory.delay, not on a tracked person.
   if (memory_on) {
     const float reach = float(config_.memory.max_distance), margin = float(config_.memory.direct_margin);
     for (Frame& f : frames_) {
@@ -226,12 +237,26 @@ VirtualScan VirtualRangeScanner::update(int64_t stamp, const Pose& map_T_base) {
         const float r = f.range[k];
         if (r > reach) { ++counters_.memory_far; continue; }
         if (!(r < plain_[size_t(f.seg[k])] - margin)) { ++counters_.memory_behind; continue; }
-        const Eigen::Vector2f q = f.points[k].head<2>();
-        if (!moving_.empty() && nearMoving(q, f.stamp)) { ++counters_.memory_moving; continue; }
-        memory_.insert(q);
-        ++counters_.memory_inserted;
+        pending_.push_back({f.points[k].head<2>(), f.stamp});
       }
     }
+    // Candidates old enough enter unless a track claims them now (a person is seen a few frames
+    // before the tracker confirms them).
+    const int64_t delay = int64_t(config_.memory.delay * 1e9);
+    size_t kept = 0;
+    for (const Pending& c : pending_) {
+      if (stamp - c.stamp < delay) {
+        pending_[kept++] = c;
+        continue;
+      }
+      if (!moving_.empty() && nearMoving(c.point, c.stamp)) {
+        ++counters_.memory_moving;
+        continue;
+      }
+      memory_.insert(c.point);
+      ++counters_.memory_inserted;
+    }
+    pending_.resize(kept);
   }
   const Eigen::Vector2f origin = map_T_base.translation().head<2>().cast<float>();
   const float yaw = float(map_T_base.yaw());

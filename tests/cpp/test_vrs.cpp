@@ -151,6 +151,8 @@ TEST(Vrs, MemoryFiltersFarBehindAndMoving) {
   vrs.addFrame(0, 0, base, cast(caster, rig.sensors[0], base));
   vrs.addPoints(1, 0, base, pts);
   vrs.update(0, base);
+  EXPECT_EQ(vrs.counters().memory_inserted, 0u);  // candidates wait memory.delay for the tracks
+  vrs.update(1'100'000'000, base);
   EXPECT_EQ(vrs.counters().memory_far, 1u);
   EXPECT_EQ(vrs.counters().memory_moving, 2u);
   EXPECT_EQ(vrs.counters().memory_inserted, 1u);  // the point at (-1, 0): nearer than the wall

@@ -3,6 +3,7 @@
 // camera only. Frames at the ground-truth pose (what localisation gives).
 #include "vrs_fixtures.hpp"
 
+#include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/sim/vrs_truth.hpp>
 
@@ -92,10 +93,17 @@ TEST(VrsScenario, CirclingPersonLeavesNoMemory) {
   d.moving = truePeople;
   VirtualRangeScanner tracked(lisa, robot, d.config);
   runVrs(d, tracked, [](const VrsStep&) {});
-  std::printf("[vrs] circling person: memory cells on the ring %zu untracked, %zu tracked (%lu points kept out)\n",
-              near_person(untracked), near_person(tracked), (unsigned long)tracked.counters().memory_moving);
+  // The same with the people tracker's confirmed tracks instead of the truth.
+  d.moving = nullptr;
+  d.track_people = true;
+  d.tracking = loadConfig(std::string(POLYLOC_SOURCE_DIR) + "/maps/config/lab.yaml").tracking;
+  VirtualRangeScanner by_tracker(lisa, robot, d.config);
+  runVrs(d, by_tracker, [](const VrsStep&) {});
+  std::printf("[vrs] circling person: memory cells on the ring %zu untracked, %zu with true tracks, %zu with tracking/ (%lu points kept out)\n",
+              near_person(untracked), near_person(tracked), near_person(by_tracker), (unsigned long)by_tracker.counters().memory_moving);
   EXPECT_GT(near_person(untracked), 10u);  // without the tracks filter the person would be remembered
   EXPECT_EQ(near_person(tracked), 0u);
+  EXPECT_EQ(near_person(by_tracker), 0u);
 }
 
 // The remembered table edge stays in place while the robot approaches and stands in front.

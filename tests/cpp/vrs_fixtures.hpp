@@ -7,10 +7,12 @@
 
 #include <polyloc/mapgen/builder.hpp>
 #include <polyloc/sensors/rig.hpp>
+#include <polyloc/tracking/people_tracker.hpp>
 #include <polyloc/vrs/virtual_scan.hpp>
 
 #include <functional>
 #include <limits>
+#include <optional>
 
 namespace polyloc::test {
 
@@ -33,7 +35,17 @@ struct VrsDrive {
   std::function<std::vector<MovingObject>(double t, const Simulator&)> moving;
   bool noise = true;
   bool clean_tof = true;  // lisa's ToF (rig sensor 6) without its outliers
+  bool track_people = false;  // the moving objects from tracking/ (PeopleTracker on the S300s)
+  TrackingConfig tracking;
 };
+
+// The confirmed tracks of a PeopleTracker as moving objects.
+inline std::vector<MovingObject> movingObjects(const Tracks& tracks) {
+  std::vector<MovingObject> out;
+  for (const TrackState& t : tracks.items)
+    if (t.status == TrackStatus::Confirmed) out.push_back({t.position, t.velocity, t.position_cov, tracks.stamp_ns});
+  return out;
+}
 
 inline Scenario vrsScenario(const VrsDrive& d) {
   Scenario s;
@@ -56,7 +68,13 @@ inline void runVrs(const VrsDrive& d, VirtualRangeScanner& vrs, const std::funct
     void close() override {}
   } sink;  // the recording itself is not needed; frames come through the hook
   SimHooks hooks;
+  std::optional<PeopleTracker> people;
+  if (d.track_people) people.emplace(sim.scenario().config.rig, d.tracking);
   hooks.on_frame = [&](const SimFrame& f) {
+    if (people) {
+      people->addScan(f.sensor, f.stamp_ns, f.map_T_sensor, f.measured);
+      if (f.sensor == 0) people->flush(), vrs.setMovingObjects(movingObjects(people->tracks()));
+    }
     if (d.clean_tof && f.sensor == 6) {
       // ToF outliers (flying pixels, reflections) removed, as the depth filters do before the
       // VRS: here by the simulator's own tags.

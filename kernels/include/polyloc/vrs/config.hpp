@@ -49,6 +49,9 @@ struct ObstacleMemoryConfig {
   double moving_turn_rate = 0.035;  // rad/s (2 deg/s)
   // Tracked moving objects: points within this Mahalanobis distance of a track, or closer than
   // track_radius to its centre (a person's body is larger than the track's uncertainty), stay out.
+  // Points wait this long before they enter, and are then tested against the tracks as they are
+  // by then (moved back to the point's stamp): a person is seen before a track confirms them.
+  double delay = 1.0;             // s
   double track_sigmas = 3.0;
   double track_radius = 0.5;      // m: half a body with swinging arms, plus the lag of a frame
 };

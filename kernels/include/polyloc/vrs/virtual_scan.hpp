@@ -78,7 +78,9 @@ class VirtualRangeScanner {
   bool addPoints(size_t sensor, int64_t stamp_ns, const Pose& map_T_base, std::span<const Eigen::Vector3f> base_points);
   // One reading of config cone `cone` (index into VrsConfig::cones).
   bool addCone(size_t cone, int64_t stamp_ns, const Pose& map_T_base, float range);
-  // Tracked moving objects for the memory filter; they stay until replaced.
+  // Tracked moving objects for the memory filter (the tracker's confirmed tracks, each call the
+  // set at one stamp). Sets of the last memory.delay + 1 s are kept; an empty set, or objects
+  // without stamps, replace them all.
   void setMovingObjects(std::span<const MovingObject> objects);
 
   VirtualScan update(int64_t stamp_ns, const Pose& map_T_base);
@@ -110,6 +112,11 @@ class VirtualRangeScanner {
   std::vector<Eigen::Vector2f> body_;  // footprint grown by self_margin (base frame)
   float body_radius_ = 0;              // round robots
   std::vector<Frame> frames_;          // per rig sensor, then per cone
+  struct Pending {
+    Eigen::Vector2f point;
+    int64_t stamp;
+  };
+  std::vector<Pending> pending_;  // memory candidates waiting for memory.delay
   std::vector<MovingObject> moving_;
   std::vector<Eigen::Matrix2d> moving_info_;  // inverse covariances
   ObstacleMemory memory_;
