@@ -53,6 +53,14 @@ void put(fc::Cdr& c, const PoseStamped& m) {
   put(c, m.header);
   put(c, m.pose);
 }
+void put(fc::Cdr& c, const TrackArray& m) {
+  put(c, m.header);
+  c << static_cast<uint32_t>(m.tracks.size());
+  for (const Track& t : m.tracks) {
+    c << t.id << t.status << t.x << t.y << t.vx << t.vy;
+    for (double v : t.covariance) c << v;
+  }
+}
 void put(fc::Cdr& c, const LaserScan& m) {
   put(c, m.header);
   c << m.angle_min << m.angle_max << m.angle_increment << m.time_increment << m.scan_time
@@ -115,6 +123,8 @@ size_t sizeHint(const Message& m) {
                        return 8 * v.d.size() + 300 + v.distortion_model.size() + v.header.frame_id.size();
                      else if constexpr (std::is_same_v<T, Odometry>)
                        return 700 + v.child_frame_id.size() + v.header.frame_id.size();
+                     else if constexpr (std::is_same_v<T, TrackArray>)
+                       return 80 * v.tracks.size() + v.header.frame_id.size() + 80;
                      else if constexpr (std::is_same_v<T, TFMessage>) {
                        size_t n = 0;
                        for (const auto& t : v.transforms)
@@ -188,6 +198,16 @@ void get(Reader& r, TransformStamped& t) {
 void get(Reader& r, PoseStamped& m) {
   get(r, m.header);
   get(r, m.pose);
+}
+void get(Reader& r, TrackArray& m) {
+  get(r, m.header);
+  // id 4 + status 1 (+3 padding) + 4 x 8 + 4 x 8: the least a Track takes
+  const uint32_t n = r.count("tracks", 72);
+  m.tracks.resize(n);
+  for (Track& t : m.tracks) {
+    r("tracks.id", t.id)("tracks.status", t.status)("tracks.x", t.x)("tracks.y", t.y)("tracks.vx", t.vx)("tracks.vy", t.vy);
+    r.array("tracks.covariance", t.covariance);
+  }
 }
 void get(Reader& r, LaserScan& m) {
   get(r, m.header);
@@ -293,7 +313,8 @@ Message decodeCdr(const std::string& type_name, std::span<const uint8_t> bytes) 
       {"sensor_msgs/msg/CameraInfo", decodeAs<CameraInfo>},
       {"nav_msgs/msg/Odometry", decodeAs<Odometry>},
       {"tf2_msgs/msg/TFMessage", decodeAs<TFMessage>},
-      {"geometry_msgs/msg/PoseStamped", decodeAs<PoseStamped>}};
+      {"geometry_msgs/msg/PoseStamped", decodeAs<PoseStamped>},
+      {"polyloc_msgs/msg/TrackArray", decodeAs<TrackArray>}};
   Decoder decode = nullptr;
   for (const auto& [name, d] : decoders)
     if (name == type_name) decode = d;

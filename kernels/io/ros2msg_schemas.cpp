@@ -42,6 +42,11 @@ const std::map<std::string, Definition>& definitions() {
       {"geometry_msgs/TransformStamped",
        {"std_msgs/Header header\nstring child_frame_id\nTransform transform\n",
         {"std_msgs/Header", "geometry_msgs/Transform"}}},
+      // polyloc's own: tracked moving objects (docs/recordings.md).
+      {"polyloc_msgs/Track",
+       {"uint32 id\nuint8 status\nfloat64 x\nfloat64 y\nfloat64 vx\nfloat64 vy\nfloat64[4] covariance\n", {}}},
+      {"polyloc_msgs/TrackArray",
+       {"std_msgs/Header header\nTrack[] tracks\n", {"std_msgs/Header", "polyloc_msgs/Track"}}},
       {"sensor_msgs/LaserScan",
        {"std_msgs/Header header\n"
         "float32 angle_min\nfloat32 angle_max\nfloat32 angle_increment\n"

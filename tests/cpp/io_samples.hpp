@@ -50,6 +50,11 @@ inline std::vector<msg::Message> sampleMessages(int k = 0) {
   out.push_back(tf);
 
   out.push_back(PoseStamped{{h.stamp, "map"}, {{1.51 + k, -0.24, 0.002}, {0.001, -0.002, 0.0998, 0.995}}});
+
+  TrackArray tracks{{h.stamp, "map"}, {}};
+  tracks.tracks.push_back({7, 1, 2.5 + k, -1.25, 0.9, -0.1, {0.01, 0.002, 0.002, 0.02}});
+  tracks.tracks.push_back({9, 0, -3.0, 4.0, 0.0, 0.0, {0.25, 0, 0, 0.25}});
+  out.push_back(tracks);
   return out;
 }
 

@@ -73,6 +73,10 @@ class Dump {
     }
   }
   void operator()(const msg::PoseStamped& p) { header(p.header), pose(p.pose); }
+  void operator()(const msg::TrackArray& a) {
+    header(a.header);
+    for (const auto& t : a.tracks) pod(t.id), pod(t.status), pod(t.x), pod(t.y), pod(t.vx), pod(t.vy), pod(t.covariance);
+  }
 };
 
 inline std::string dumpAll(const CaptureWriter& w) {

@@ -44,6 +44,13 @@ TEST(Cdr, RoundTripEveryType) {
   EXPECT_DOUBLE_EQ(ci.p[6], 25.0);
   EXPECT_TRUE(ci.roi.do_rectify);
   EXPECT_EQ(ci.binning_y, 2u);
+  auto tr = std::get<msg::TrackArray>(msg::decodeCdr("polyloc_msgs/msg/TrackArray", msg::encodeCdr(samples[7])));
+  ASSERT_EQ(tr.tracks.size(), 2u);
+  EXPECT_EQ(tr.tracks[0].id, 7u);
+  EXPECT_EQ(tr.tracks[0].status, 1);
+  EXPECT_DOUBLE_EQ(tr.tracks[0].x, 5.5);
+  EXPECT_DOUBLE_EQ(tr.tracks[1].covariance[3], 0.25);
+  EXPECT_NE(msg::ros2msgSchema("polyloc_msgs/msg/TrackArray").find("MSG: polyloc_msgs/Track\nuint32 id"), std::string::npos);
 }
 
 template <size_t... I>

@@ -94,6 +94,13 @@ json toJson(const msg::TFMessage& m) {
   return {{"transforms", a}};
 }
 json toJson(const msg::PoseStamped& m) { return {{"header", toJson(m.header)}, {"pose", toJson(m.pose)}}; }
+// Not in the fixture (its schema is polyloc's own, not in rosmsg-msgs-common), but every type has one.
+json toJson(const msg::TrackArray& m) {
+  json a = json::array();
+  for (const auto& t : m.tracks)
+    a.push_back({{"id", t.id}, {"status", t.status}, {"x", t.x}, {"y", t.y}, {"vx", t.vx}, {"vy", t.vy}, {"covariance", t.covariance}});
+  return {{"header", toJson(m.header)}, {"tracks", a}};
+}
 
 msg::Header header(int64_t t, const char* frame) { return {msg::fromNs(t), frame}; }
 

@@ -100,7 +100,20 @@ struct TFMessage {  // tf2_msgs/TFMessage
   std::vector<TransformStamped> transforms;
 };
 
-using Message = std::variant<LaserScan, PointCloud2, Image, CameraInfo, Odometry, TFMessage, PoseStamped>;
+// polyloc_msgs/Track, TrackArray: tracked moving objects (people) in the header's frame, as
+// polyloc perceive writes them and the simulator writes the true people (/ground_truth/people).
+struct Track {
+  uint32_t id = 0;
+  uint8_t status = 0;                // 0 tentative, 1 confirmed, 2 deleted (truth: 1 visible, 0 not)
+  double x = 0, y = 0, vx = 0, vy = 0;
+  std::array<double, 4> covariance{};  // position, row-major 2x2
+};
+struct TrackArray {
+  Header header;
+  std::vector<Track> tracks;
+};
+
+using Message = std::variant<LaserScan, PointCloud2, Image, CameraInfo, Odometry, TFMessage, PoseStamped, TrackArray>;
 
 // ROS 2 type name of a message ("sensor_msgs/msg/LaserScan", ...).
 const char* typeName(const Message& m);
