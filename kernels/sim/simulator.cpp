@@ -4,6 +4,7 @@
 #include <polyloc/sim/simulator.hpp>
 
 #include "sensor_sim.hpp"
+#include "truth_topics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,7 @@ namespace {
 
 constexpr int64_t kChunkNs = 1000000000;  // simulated per batch
 enum Order : int { kOrderStatic = 0, kOrderTf = 1, kOrderOdom = 2, kOrderTruth = 3 };
+constexpr uint64_t kTruthVrsEvery = 5;  // frames of the first level scanner per /ground_truth/vrs
 
 int64_t tickNs(uint64_t k, double rate_hz) { return std::llround(static_cast<double>(k) * 1e9 / rate_hz); }
 
@@ -50,8 +52,13 @@ Simulator::Simulator(Scenario scenario, Mesh map) : scenario_(std::move(scenario
   opt.glass = s.noise.glass;
   opt.max_bounces = s.noise.max_bounces;
   opt.seed = s.seed;
-  for (size_t i = 0; i < rig.size(); ++i)
+  for (size_t i = 0; i < rig.size(); ++i) {
     sensors_.push_back(std::make_unique<detail::SensorSim>(i, rig.sensors[i], noise[i], opt, map_, person_label_));
+    sensor_beams_.push_back(rig.sensors[i].beams());
+    const Sensor& r = rig.sensors[i];
+    if (std::holds_alternative<PlanarScannerSpec>(r.spec) && std::abs(r.mount.roll()) < 0.17 && std::abs(r.mount.pitch()) < 0.17)
+      level_scanners_.push_back(int(i));  // within 10 deg of level: they see people's legs
+  }
 }
 
 Simulator::~Simulator() = default;
@@ -157,6 +164,25 @@ SimSummary Simulator::run(RecordingWriter& out, const SimHooks& hooks) {
       sensors_[i]->simulate(*caster_, jobs[i]);
       for (detail::FrameJob& job : jobs[i])
         for (detail::OutMessage& m : job.messages) msgs.push_back(std::move(m));
+    }
+    // Ground truth for perception (truth_topics.hpp): the people at every frame of a level
+    // scanner, the true VRS at every truth_vrs_every-th frame of the first one, ToF artefacts.
+    const PeopleScene no_people;
+    for (size_t i = 0; i < sensors_.size(); ++i) {
+      const Sensor& sensor = sensors_[i]->sensor();
+      for (const detail::FrameJob& job : jobs[i]) {
+        const int64_t rel = job.frame.stamp_ns - t0;
+        const PeopleScene& scene = scenes.empty() ? no_people : scenes[rel];
+        if (std::holds_alternative<DepthCameraSpec>(sensor.spec)) {
+          msgs.push_back(detail::artefactImage(job.frame, sensor, 10 + int(i)));
+          continue;
+        }
+        if (!std::count(level_scanners_.begin(), level_scanners_.end(), int(i))) continue;
+        if (people_->size() > 0)
+          msgs.push_back(detail::peopleTruth(job.frame, sensor_beams_[i], *people_, scene, person_label_, s.map_frame, 10 + int(i)));
+        if (int(i) == level_scanners_.front() && job.frame.index % kTruthVrsEvery == 0)
+          msgs.push_back(detail::vrsTruth(job.frame, *caster_, scene, s.config.vrs, s.base_frame, 10 + int(i)));
+      }
     }
 
     if (hooks.on_frame) {

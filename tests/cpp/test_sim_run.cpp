@@ -140,7 +140,20 @@ TEST(SimRun, TopicsRatesAndFrames) {
   EXPECT_EQ(w.on("/depth/tof_front/image").size(), 61u); // 20 Hz
   EXPECT_EQ(w.on("/depth/tof_front/amplitude").size(), 61u);
   EXPECT_EQ(w.on("/depth/tof_front/camera_info").size(), 61u);
-  EXPECT_EQ(sum.topics.size(), 13u);
+  EXPECT_EQ(w.on("/depth/tof_front/artefacts").size(), 61u);
+  EXPECT_EQ(w.on("/ground_truth/people").size(), 2 * 38u);  // per frame of either S300
+  EXPECT_EQ(w.on("/ground_truth/vrs").size(), 8u);          // every 5th frame of the first S300
+  EXPECT_EQ(sum.topics.size(), 16u);
+  // The people truth (present people, the beams of the frame on them; none yet at 3 s), the true
+  // VRS in base_link, the ToF artefact tags.
+  const auto people = std::get<msg::TrackArray>(w.on("/ground_truth/people").back()->message);
+  EXPECT_EQ(people.header.frame_id, "map");
+  const auto vrs = std::get<msg::LaserScan>(w.on("/ground_truth/vrs").front()->message);
+  EXPECT_EQ(vrs.header.frame_id, "base_link");
+  EXPECT_EQ(vrs.ranges.size(), 720u);
+  const auto art = std::get<msg::Image>(w.on("/depth/tof_front/artefacts").front()->message);
+  EXPECT_EQ(art.encoding, "mono8");
+  EXPECT_EQ(art.data.size(), 64u * 50u);
   const auto tf_static = std::get<msg::TFMessage>(w.entries.front().message);
   EXPECT_EQ(tf_static.transforms.size(), 8u);  // 7 mounts and the ToF optical frame
   // Odometry starts at identity in the odom frame; ground truth at the first waypoint in map.

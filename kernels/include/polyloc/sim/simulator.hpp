@@ -9,6 +9,9 @@
 //   /depth/<name>/image            32FC1 depth in metres, NaN invalid (frame <name>_optical)
 //   /depth/<name>/amplitude        32FC1 amplitude (frame <name>_optical)
 //   /depth/<name>/camera_info      sensor_msgs/CameraInfo
+//   /depth/<name>/artefacts        mono8: ArtefactBits per pixel (truth for the depth filters)
+//   /ground_truth/people           polyloc_msgs/TrackArray per level-scanner frame (status: beams on them)
+//   /ground_truth/vrs              sensor_msgs/LaserScan, the true VRS (every 5th first-scanner frame)
 //
 // Work goes in chunks of one simulated second: all frames of a sensor in a chunk are cast in one
 // batch (the caster spreads them over threads), people, glass and noise per frame with TBB.
@@ -94,6 +97,8 @@ class Simulator {
   std::unique_ptr<People> people_;
   std::unique_ptr<FloorModel> floor_;
   std::vector<std::unique_ptr<detail::SensorSim>> sensors_;
+  std::vector<BeamSet> sensor_beams_;  // per rig sensor
+  std::vector<int> level_scanners_;    // rig indices of the level planar scanners (people truth)
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> chair_moves_;
   double duration_ = 0;
 };
