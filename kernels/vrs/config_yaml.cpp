@@ -30,6 +30,7 @@ VrsConfig parseVrsConfig(ConfigMap m, double robot_height) {
   if (!(c.resolution >= 1e-4 && c.resolution <= 0.5)) m.value("resolution").fail("must be in [0.006, 28] deg");
   c.range_max = m.getDouble("range_max", c.range_max, 0.1, 1000);
   c.floor_clearance = m.getDouble("floor_clearance", c.floor_clearance, -10, 10);
+  c.floor_range_margin = m.getDouble("floor_range_margin", c.floor_range_margin, 0, 0.9);
   c.robot_height = m.getDouble("robot_height", c.robot_height, 0, 100);
   if (c.robot_height <= c.floor_clearance) m.value("robot_height").fail("must be above floor_clearance");
   c.self_margin = m.getDouble("self_margin", c.self_margin, 0, 10);

@@ -97,11 +97,17 @@ bool VirtualRangeScanner::addFrame(size_t sensor, int64_t stamp, const Pose& map
     return ++counters_.frames_rejected, false;
   if (frames_[sensor].mode == VrsMode::Off) return false;
   const BeamSet& b = beams_[sensor];
+  const Pose& mount = rig_.sensors[sensor].mount;
+  const Eigen::Matrix3f R = mount.rotation().toRotationMatrix().cast<float>();
+  const float h = float(mount.z()), keep = 1.f - float(config_.floor_range_margin);
   std::vector<Eigen::Vector3f> pts;
   pts.reserve(ranges.size());
   for (size_t i = 0; i < ranges.size(); ++i) {
     const float r = ranges[i];
     if (!std::isfinite(r) || r < b.range_min || r >= b.range_max) continue;  // no return, or max-range
+    // A beam going down that ends about where it meets the floor plane hit the floor.
+    const float dz = R(2, 0) * b.dx[i] + R(2, 1) * b.dy[i] + R(2, 2) * b.dz[i];
+    if (dz < -0.1f && h > 0 && r >= keep * h / -dz) continue;
     pts.emplace_back(b.dx[i] * r, b.dy[i] * r, b.dz[i] * r);
   }
   store(frames_[sensor], stamp, map_T_base, rig_.sensors[sensor].mount, pts);

@@ -16,5 +16,6 @@ void registerLocalize(CLI::App& app);     // polyloc localize ...       (cmd_loc
 void registerBenchMcl(CLI::App& bench);   // polyloc bench mcl ...      (cmd_bench_mcl.cpp)
 void registerEval(CLI::App& app);         // polyloc eval global|kidnap|tracking (cmd_eval.cpp)
 void registerEvalTracking(CLI::App& eval); // polyloc eval tracking ...  (cmd_eval_tracking.cpp)
+void registerPerceive(CLI::App& app);     // polyloc perceive ...       (cmd_perceive.cpp)
 
 }  // namespace polyloc::cli

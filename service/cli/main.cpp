@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   polyloc::cli::registerSimulate(app);
   polyloc::cli::registerLocalize(app);
   polyloc::cli::registerEval(app);
+  polyloc::cli::registerPerceive(app);
 
   try {
     app.parse(argc, argv);

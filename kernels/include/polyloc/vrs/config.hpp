@@ -62,6 +62,10 @@ struct VrsConfig {
   double resolution = M_PI / 360;  // segment width (0.5 deg)
   double range_max = 8.0;         // m; segments with nothing nearer are +inf (REP-117)
   double floor_clearance = 0.06;  // m above base_link: lower points are floor
+  // A beam pointing down that ends within this fraction of the range where it meets the floor
+  // plane is floor too: range noise of a tilted scanner lifts floor points above any fixed
+  // clearance (URG-04LX: 3% of 1.5 m is 3 cm in height at 40 deg).
+  double floor_range_margin = 0.08;
   double robot_height = 1.2;      // m: higher points cannot touch the robot (robot.height)
   double self_margin = 0.02;      // m: points inside the footprint grown by this are the robot
   double max_age = 0.5;           // s: a direct source's frame older than this at update is dropped

@@ -1,0 +1,280 @@
+// polyloc perceive: runs perception over a recording (MCAP, ROS 2 bag, CARMEN): every frame into
+// the virtual range scan (kernels/vrs), the level scanners into people tracking
+// (kernels/tracking), at the pose of the recording's /ground_truth (what localisation gives) or
+// its odometry. Writes DIR/perception.mcap (/vrs, /vrs/localization as LaserScan in base_link,
+// /tracks as polyloc_msgs/TrackArray in map), PNG snapshots, and with the simulator's ground-truth
+// topics scores VRS and tracking (docs/vrs.md, docs/tracking.md).
+#include "cli/commands.hpp"
+#include "cli/localize_topics.hpp"
+#include "viz/topview.hpp"
+
+#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/eval/mot_metrics.hpp>
+#include <polyloc/eval/stats.hpp>
+#include <polyloc/io/recording.hpp>
+#include <polyloc/map/load.hpp>
+#include <polyloc/sim/vrs_truth.hpp>
+#include <polyloc/tracking/people_tracker.hpp>
+#include <polyloc/vrs/virtual_scan.hpp>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+namespace polyloc::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct PerceiveArgs {
+  std::string input, config, out, pose = "ground_truth";
+  size_t snapshots = 4;
+  double vrs_reach = 1.2;  // m: segments scored against the true VRS (where lisa's tilted scanners have looked)
+  bool json = false;
+};
+
+Pose toPose(const msg::Pose& p) {
+  return Pose(Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z),
+              Eigen::Vector3d(p.position.x, p.position.y, p.position.z));
+}
+
+msg::LaserScan toScan(const VirtualScan& v, const std::vector<float>& ranges, int64_t stamp, const std::string& frame) {
+  msg::LaserScan s;
+  s.header = {msg::fromNs(stamp), frame};
+  s.angle_increment = v.angle_increment;
+  s.angle_min = v.angle_min + 0.5f * v.angle_increment;  // LaserScan angles are the rays: segment centres
+  s.angle_max = s.angle_min + float(ranges.size() - 1) * v.angle_increment;
+  s.range_min = v.range_min, s.range_max = v.range_max;
+  s.ranges = ranges;
+  return s;
+}
+
+msg::TrackArray toTracks(const Tracks& t, int64_t stamp, const std::string& frame) {
+  msg::TrackArray a;
+  a.header = {msg::fromNs(stamp), frame};
+  for (const TrackState& s : t.items)
+    a.tracks.push_back({s.id, uint8_t(s.status == TrackStatus::Confirmed ? 1 : s.status == TrackStatus::Deleted ? 2 : 0),
+                        s.position.x(), s.position.y(), s.velocity.x(), s.velocity.y(),
+                        {s.position_cov(0, 0), s.position_cov(0, 1), s.position_cov(1, 0), s.position_cov(1, 1)}});
+  return a;
+}
+
+void snapshot(const Mesh& map, const VirtualScan& v, const VirtualRangeScanner& vrs, const Tracks& tracks,
+              const std::string& path, double t) {
+  const Eigen::Vector2f c = v.map_T_base.translation().head<2>().cast<float>();
+  viz::TopView view(Eigen::AlignedBox2f(c - Eigen::Vector2f(5, 5), c + Eigen::Vector2f(5, 5)), 60.f);
+  view.drawMeshSlice(map, 0.3f);
+  const viz::Color light{200, 200, 200};
+  view.drawMeshSlice(map, 0.74f, &light, 1);
+  for (const auto& p : vrs.memory().points()) view.drawPoint(p, viz::kBlue, 1);
+  const float yaw = float(v.map_T_base.yaw());
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v.ranges[i])) continue;
+    const float a = yaw + v.angleOf(i);
+    const Eigen::Vector2f p = c + v.ranges[i] * Eigen::Vector2f(std::cos(a), std::sin(a));
+    const viz::Color col = v.source[i] & kVrsDanger ? viz::kRed : v.source[i] & kVrsMemory ? viz::kOrange : viz::kBlack;
+    view.drawPoint(p, col, 2);
+  }
+  for (const TrackState& s : tracks.items) {
+    if (s.status != TrackStatus::Confirmed) continue;
+    view.drawPose(Pose::planar(s.position.x(), s.position.y(), std::atan2(s.velocity.y(), s.velocity.x())), viz::kGreen, 0.25f);
+    view.drawText(std::to_string(s.id), s.position.cast<float>() + Eigen::Vector2f(0.3f, 0.3f), viz::kGreen);
+  }
+  view.drawPose(v.map_T_base, viz::kCyan, 0.3f);
+  view.drawLegend(fmt::format("t = {:.1f} s   VRS: black direct, orange memory, red danger; blue memory cells; green tracks", t));
+  view.drawScaleBar();
+  view.save(path);
+}
+
+// The true people at a step: every level scanner's latest /ground_truth/people, beams summed.
+struct PeopleTruth {
+  std::map<int64_t, msg::TrackArray> recent;  // by stamp
+  void add(int64_t stamp, const msg::TrackArray& a) {
+    recent[stamp] = a;
+    while (!recent.empty() && recent.begin()->first < stamp - 200'000'000) recent.erase(recent.begin());
+  }
+  std::vector<MotObject> at(int64_t stamp, const Eigen::Vector2d& robot) const {
+    std::map<uint32_t, std::pair<msg::Track, uint32_t>> sum;
+    for (const auto& [t, a] : recent) {
+      if (t > stamp || t < stamp - 100'000'000) continue;
+      for (const msg::Track& p : a.tracks) {
+        auto& e = sum[p.id];
+        e.first = p, e.second += p.status;
+      }
+    }
+    std::vector<MotObject> out;
+    for (const auto& [id, e] : sum) {
+      const Eigen::Vector2d p(e.first.x, e.first.y);
+      // As evaluateTracking counts people: 3 beams on them, walking, within 8 m.
+      const bool care = e.second >= 3 && std::hypot(e.first.vx, e.first.vy) >= 0.2 && (p - robot).norm() <= 8.0;
+      out.push_back({id, p, care});
+    }
+    return out;
+  }
+};
+
+void runPerceive(const PerceiveArgs& a) {
+  const auto t_start = Clock::now();
+  if (a.pose != "ground_truth" && a.pose != "odometry") throw std::runtime_error("--pose must be ground_truth or odometry");
+  auto reader = openRecording(a.input);
+  const PolylocConfig cfg = loadConfig(a.config);
+  const Mesh map = loadMesh(cfg.map.file, cfg.map.load);
+  std::filesystem::create_directories(a.out);
+  TopicRouter router(cfg.rig, std::vector<bool>(cfg.rig.size(), true));
+  VrsConfig vcfg = cfg.vrs;
+  VirtualRangeScanner vrs(cfg.rig, cfg.robot, vcfg, a.pose == "ground_truth" ? &map : nullptr);
+  PeopleTracker people(cfg.rig, cfg.tracking);
+  const std::vector<size_t> level = people.sensors();
+  const size_t trigger = level.empty() ? 0 : level.front();  // the VRS updates at its frames
+  auto writer = createMcap(a.out + "/perception.mcap");
+
+  uint64_t total = 0;
+  int64_t first_ns = 0, last_ns = 0;
+  for (const TopicInfo& t : reader->topics()) {
+    total += t.count;
+    if (t.count && (first_ns == 0 || t.first_ns < first_ns)) first_ns = t.first_ns;
+    last_ns = std::max(last_ns, t.last_ns);
+  }
+  const bool tty = isatty(fileno(stderr));
+  std::optional<Pose> pose;
+  PeopleTruth truth_people;
+  std::map<int64_t, VirtualScan> recent_vrs;  // the last updates, until their truth comes
+  struct Step {
+    int64_t stamp;
+    Eigen::Vector2d robot;
+    std::vector<MotObject> hypotheses;
+  };
+  std::optional<Step> step;
+  MotAccumulator mot(0.5, 2.0);
+  bool have_truth_people = false;
+  std::vector<double> update_ms;
+  double vrs_sum2 = 0;
+  size_t vrs_segments = 0, vrs_missed = 0, frames = 0, no_pose = 0, snapshots = 0;
+  std::vector<std::string> pngs;
+  std::vector<float> ranges;
+  RecordedMessage m;
+  uint64_t read = 0;
+  while (reader->next(m)) {
+    ++read;
+    if (tty && read % 2000 == 0) {
+      fmt::print(stderr, "\rperceive {:3.0f}% {}/{} messages", 100.0 * double(read) / double(std::max<uint64_t>(total, 1)), read, total);
+      std::fflush(stderr);
+    }
+    if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
+      if (a.pose == "ground_truth") pose = toPose(p->pose);
+      continue;
+    }
+    if (const auto* o = std::get_if<msg::Odometry>(&m.message)) {
+      if (a.pose == "odometry") pose = toPose(o->pose.pose);
+      continue;
+    }
+    if (const auto* t = std::get_if<msg::TrackArray>(&m.message); t && m.topic == "/ground_truth/people") {
+      truth_people.add(msg::toNs(t->header.stamp), *t), have_truth_people = true;
+      continue;
+    }
+    if (const auto* s = std::get_if<msg::LaserScan>(&m.message); s && m.topic == "/ground_truth/vrs") {
+      // The truth follows the scan of its stamp in the recording: score the VRS kept for it.
+      const int64_t ts = msg::toNs(s->header.stamp);
+      if (auto it = recent_vrs.find(ts); it != recent_vrs.end() && ts - first_ns > 1'000'000'000) {  // every sensor has spoken
+        const VrsError e = compareVirtualScan(it->second.ranges, it->second.source, s->ranges, it->second.range_max, a.vrs_reach);
+        vrs_sum2 += e.rmse_m * e.rmse_m * double(e.segments), vrs_segments += e.segments, vrs_missed += e.missed;
+      }
+      continue;
+    }
+    const TopicRouter::Result r = router.route(m.topic, m.log_time_ns, m.message, ranges);
+    if (r.kind != TopicRouter::Kind::Frame) continue;
+    if (!pose) {
+      ++no_pose;
+      continue;
+    }
+    ++frames;
+    const size_t sensor = size_t(r.sensor);
+    vrs.addFrame(sensor, r.stamp_ns, *pose, ranges);
+    if (std::count(level.begin(), level.end(), sensor)) people.addScan(sensor, r.stamp_ns, cfg.rig.sensors[sensor].worldPose(*pose), ranges);
+    if (sensor != trigger) continue;
+    people.flush();
+    std::vector<MovingObject> moving;
+    for (const TrackState& t : people.tracks().items)
+      if (t.status == TrackStatus::Confirmed) moving.push_back({t.position, t.velocity, t.position_cov, people.tracks().stamp_ns});
+    const auto t0 = Clock::now();
+    vrs.setMovingObjects(moving);
+    const VirtualScan v = vrs.update(r.stamp_ns, *pose);
+    update_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    writer->write("/vrs", r.stamp_ns, toScan(v, v.ranges, r.stamp_ns, "base_link"));
+    writer->write("/vrs/localization", r.stamp_ns, toScan(v, v.ranges_max, r.stamp_ns, "base_link"));
+    writer->write("/tracks", r.stamp_ns, toTracks(people.tracks(), r.stamp_ns, "map"));
+    recent_vrs[r.stamp_ns] = v;
+    while (recent_vrs.size() > 4) recent_vrs.erase(recent_vrs.begin());
+    // The people truth of a step comes after its scans: score the previous step now.
+    if (have_truth_people && step) {
+      const double dt = double(r.stamp_ns - step->stamp) * 1e-9;
+      mot.addFrame(dt, truth_people.at(step->stamp, step->robot), step->hypotheses);
+    }
+    step = Step{r.stamp_ns, pose->translation().head<2>(), {}};
+    for (const TrackState& t : people.tracks().items)
+      if (t.status == TrackStatus::Confirmed) step->hypotheses.push_back({t.id, t.position, true});
+    // Snapshots spread over the run.
+    const double frac = last_ns > first_ns ? double(r.stamp_ns - first_ns) / double(last_ns - first_ns) : 0.0;
+    if (snapshots < a.snapshots && frac >= (double(snapshots) + 0.5) / double(a.snapshots)) {
+      const std::string png = fmt::format("{}/vrs_{}.png", a.out, snapshots++);
+      snapshot(map, v, vrs, people.tracks(), png, double(r.stamp_ns - first_ns) * 1e-9);
+      pngs.push_back(png);
+    }
+  }
+  if (tty) fmt::print(stderr, "\rperceive 100% {}/{} messages\n", read, total);
+  writer->close();
+
+  nlohmann::json j = {{"input", a.input}, {"config", a.config}, {"pose", a.pose}, {"frames", frames},
+                      {"frames_without_pose", no_pose}, {"vrs_updates", update_ms.size()},
+                      {"output", a.out + "/perception.mcap"}, {"snapshots", pngs},
+                      {"wall_s", std::chrono::duration<double>(Clock::now() - t_start).count()}};
+  std::sort(update_ms.begin(), update_ms.end());
+  j["vrs_update_ms_p50"] = update_ms.empty() ? nlohmann::json() : nlohmann::json(percentile(update_ms, 50));
+  j["vrs_update_ms_p99"] = update_ms.empty() ? nlohmann::json() : nlohmann::json(percentile(update_ms, 99));
+  j["vrs_rmse_m"] = vrs_segments ? nlohmann::json(std::sqrt(vrs_sum2 / double(vrs_segments))) : nlohmann::json();
+  j["vrs_scored_segments"] = vrs_segments;
+  j["vrs_missed_segments"] = vrs_missed;
+  j["vrs_reach_m"] = a.vrs_reach;
+  if (have_truth_people) {
+    const MotMetrics mm = mot.metrics();
+    j["mota"] = mm.mota, j["track_rmse_m"] = mm.rmse_m, j["id_switches_per_100s"] = mm.id_switches_per_100s;
+    j["track_seconds"] = mm.track_seconds, j["reentries"] = mm.reentries;
+  } else {
+    j["mota"] = j["track_rmse_m"] = j["id_switches_per_100s"] = nullptr;
+  }
+  j["depth_outlier_removed"] = nullptr;  // the depth filters join here (docs/depth.md)
+  j["depth_valid_kept"] = nullptr;
+  const VrsCounters& c = vrs.counters();
+  j["counters"] = {{"vrs_frames", c.frames}, {"vrs_frames_rejected", c.frames_rejected},
+                   {"memory_inserted", c.memory_inserted}, {"memory_far", c.memory_far},
+                   {"memory_behind", c.memory_behind}, {"memory_moving", c.memory_moving},
+                   {"tracking_scans", people.counters().scans}, {"tracking_rejected", people.counters().rejected},
+                   {"records_rejected", reader->stats().rejected}};
+  if (a.json) fmt::print("{}\n", j.dump());
+  else
+    fmt::print("perceive: {} frames, {} VRS updates (p99 {:.3f} ms), VRS RMSE {}, MOTA {}; wrote {}\n", frames, update_ms.size(),
+               update_ms.empty() ? 0.0 : percentile(update_ms, 99), j["vrs_rmse_m"].dump(), j["mota"].dump(), a.out);
+}
+
+}  // namespace
+
+void registerPerceive(CLI::App& app) {
+  auto a = std::make_shared<PerceiveArgs>();
+  CLI::App* c = app.add_subcommand("perceive", "Virtual range scans and people tracking over a recording");
+  c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag or CARMEN log")->required()->check(CLI::ExistingPath);
+  c->add_option("--config", a->config, "polyloc config (map, robot, rig, vrs, tracking)")->required()->check(CLI::ExistingFile);
+  c->add_option("--out", a->out, "Output directory: perception.mcap and PNG snapshots")->required();
+  c->add_option("--pose", a->pose, "Robot pose: ground_truth (the recording's /ground_truth) or odometry")->capture_default_str();
+  c->add_option("--snapshots", a->snapshots, "PNG snapshots spread over the run")->capture_default_str();
+  c->add_option("--vrs-reach", a->vrs_reach, "m: segments scored against /ground_truth/vrs")->capture_default_str();
+  c->add_flag("--json", a->json, "Summary as one JSON object on stdout");
+  c->callback([a] { runPerceive(*a); });
+}
+
+}  // namespace polyloc::cli
