@@ -1,4 +1,5 @@
 #include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/depth/config_yaml.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
 
 #include <filesystem>
@@ -37,6 +38,7 @@ PolylocConfig loadConfig(const std::string& path) {
   c.robot = parseRobot(m.map("robot"));
   c.rig = readRig(m.value("rig"), m);
   if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"));
+  if (m.has("depth_filter")) c.depth_filter = parseDepthFilterConfig(m.map("depth_filter"));
   m.finish();
   return c;
 }

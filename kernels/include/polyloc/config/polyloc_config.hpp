@@ -6,10 +6,12 @@
 //   robot: {...}                      # polyloc/config/robot.hpp
 //   rig: ../rigs/lisa.yaml            # a preset name, a rig file, or inline (sensors/rig.hpp)
 //   mcl: {...}                        # polyloc/mcl/config_yaml.hpp, docs/localization.md
+//   depth_filter: {...}               # polyloc/depth/config_yaml.hpp, docs/depth.md
 #pragma once
 
 #include <polyloc/config/robot.hpp>
 #include <polyloc/config/yaml.hpp>
+#include <polyloc/depth/config.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/mcl/config.hpp>
 #include <polyloc/sensors/rig.hpp>
@@ -29,6 +31,7 @@ struct PolylocConfig {
   RobotSpec robot;
   Rig rig;
   MclConfig mcl;  // `mcl:` section (polyloc/mcl/config_yaml.hpp); defaults when absent
+  DepthFilterConfig depth_filter;  // `depth_filter:` section (polyloc/depth/config_yaml.hpp)
 };
 
 // Throws ConfigError naming file, line and key (also when the map file does not exist).
