@@ -124,7 +124,7 @@ void addOptions(CLI::App& c, EvalArgs& a, bool kidnap) {
 }  // namespace
 
 void registerEval(CLI::App& app) {
-  CLI::App& eval = *app.add_subcommand("eval", "Localisation trials on simulated drives: global localisation, kidnapping");
+  CLI::App& eval = *app.add_subcommand("eval", "Trials on simulated runs: global localisation, kidnapping, depth filtering");
   eval.require_subcommand(1);
   auto g = std::make_shared<EvalArgs>();
   CLI::App& global = *eval.add_subcommand("global", "Global localisation from a uniform prior at random starts");
@@ -136,6 +136,7 @@ void registerEval(CLI::App& app) {
   CLI::App& kidnap = *eval.add_subcommand("kidnap", "Recovery after the robot is carried elsewhere mid-run");
   addOptions(kidnap, *k, true);
   kidnap.callback([k] { runEval(*k, true); });
+  registerEvalDepth(eval);
 }
 
 }  // namespace polyloc::cli

@@ -15,5 +15,6 @@ void registerSimulate(CLI::App& app);     // polyloc simulate ...       (cmd_sim
 void registerLocalize(CLI::App& app);     // polyloc localize ...       (cmd_localize.cpp)
 void registerBenchMcl(CLI::App& bench);   // polyloc bench mcl ...      (cmd_bench_mcl.cpp)
 void registerEval(CLI::App& app);         // polyloc eval global|kidnap (cmd_eval.cpp)
+void registerEvalDepth(CLI::App& eval);   // polyloc eval depth ...     (cmd_eval_depth.cpp)
 
 }  // namespace polyloc::cli
