@@ -15,10 +15,11 @@ namespace {
 using F = float* __restrict;
 using CF = const float* __restrict;
 
-// Jump flags of the pairs (i, i + 1 column/row shift) between row a (points ax, ay, az) and row
-// b (bx, by, bz, already shifted): bit `before` on b's pixel, bit `after` on a's.
+// Jump flags of the pairs (a, b) between row a (points ax, ay, az) and row b (bx, by, bz, already
+// shifted to the partner): per line two bits, `nearer` (a jump to a nearer neighbour) and
+// `farther`, set on both pixels of a jump.
 void markPairs(CF ax, CF ay, CF az, CF bx, CF by, CF bz, float cos2, uint8_t* __restrict fa,
-               uint8_t* __restrict fb, uint8_t after, uint8_t before, int len) {
+               uint8_t* __restrict fb, uint8_t nearer, uint8_t farther, int len) {
   for (int x = 0; x < len; ++x) {
     const float ex = bx[x] - ax[x], ey = by[x] - ay[x], ez = bz[x] - az[x];
     const float dot = ex * ax[x] + ey * ay[x] + ez * az[x];
@@ -26,8 +27,9 @@ void markPairs(CF ax, CF ay, CF az, CF bx, CF by, CF bz, float cos2, uint8_t* __
     const float ray2 = ax[x] * ax[x] + ay[x] * ay[x] + az[x] * az[x];
     // cos^2(angle between edge and ray) = dot^2 / (|e|^2 |p|^2), without a division or a root.
     const uint8_t jump = dot * dot > cos2 * e2 * ray2 ? 1 : 0;
-    fa[x] |= jump * after;
-    fb[x] |= jump * before;
+    const uint8_t b_farther = ez > 0.f ? 1 : 0;  // z is the depth
+    fa[x] |= jump * (b_farther ? farther : nearer);
+    fb[x] |= jump * (b_farther ? nearer : farther);
   }
 }
 
@@ -40,7 +42,7 @@ void rejectJumpEdges(const JumpEdgeFilter& c, const float* xn, const float* yn, 
   const float cos_min = static_cast<float>(std::cos(c.min_angle));
   const float cos2 = cos_min * cos_min;
   thread_local std::vector<float> px, py, pz;
-  thread_local std::vector<uint8_t> flags;  // per pixel: 2 bits per line (before / after it)
+  thread_local std::vector<uint8_t> flags;  // per pixel and line: a jump to a nearer / farther neighbour
   px.resize(n), py.resize(n), pz.resize(n);
   flags.assign(n, 0);
   // p_i = d_i (x_i, y_i, 1); the view ray is p_i itself (the camera at the origin).
@@ -62,7 +64,9 @@ void rejectJumpEdges(const JumpEdgeFilter& c, const float* xn, const float* yn, 
   const bool any = c.mode == "any";
   for (size_t i = 0; i < n; ++i) {
     const uint8_t f = flags[i];
-    // between: both bits of one line (a jump on either side of the pixel along it).
+    // between: along one line a jump to a nearer neighbour and one to a farther one, as a pixel
+    // with a depth mixed between a foreground and a background has; a thin foreground structure
+    // (a chair leg) has farther neighbours on both sides and stays.
     const bool between = (f & 3) == 3 || (f & 12) == 12 || (f & 48) == 48 || (f & 192) == 192;
     if (any ? f != 0 : between) work.reject(i, DepthReject::kJumpEdge);
   }

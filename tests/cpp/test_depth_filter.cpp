@@ -90,6 +90,22 @@ TEST(DepthFilter, FlyingPixelsAtAStepEdgeAreRemoved) {
   }
 }
 
+TEST(DepthFilter, JumpEdgesKeepThinStructures) {
+  // A one-pixel-wide pole at 1.5 m in front of a wall at 3 m: both its neighbours are farther,
+  // so it is no pixel between two surfaces (the classic `any` mode takes it, and the wall's rim).
+  const DepthCameraSpec cam = pmdO3D100();
+  const int pole = cam.width / 2;
+  const std::vector<float> depth = stepEdge(cam, 3.0f, 3.0f, pole, 1.5f);
+  DepthFilterConfig c = rejectOnly();
+  c.confidence.enabled = false;
+  DepthFilterResult between, any;
+  DepthFilter(cam, Pose(), c).apply(view(cam, depth), between);
+  c.jump_edge.mode = "any";
+  DepthFilter(cam, Pose(), c).apply(view(cam, depth), any);
+  EXPECT_EQ(between.kept(), cam.numBeams());
+  EXPECT_EQ(any.kept(), cam.numBeams() - 3 * size_t(cam.height));
+}
+
 TEST(DepthFilter, ConfidenceRejectsIsolatedOutliersAndKeepsASmoothSurface) {
   const DepthCameraSpec cam = pmdO3D100();
   const Pose mount = Pose::fromXYZRPY(0, 0, 0.75, 0, 0, deg2rad(30));  // a wall seen obliquely

@@ -23,8 +23,9 @@ struct DepthValidity {
 // neighbouring points: where the 3D edge from a pixel to a neighbour runs within min_angle of
 // the view ray, the two cannot both lie on one surface seen at a usable angle (Fuchs and May's
 // jump-edge filter). `any` rejects both pixels of every such edge, the classic form; `between`
-// only a pixel with jump edges on opposite sides along one line (4 or 8 neighbours: 2 or 4
-// lines), as a flying pixel between two surfaces has, keeping the rims of both surfaces.
+// only a pixel that, along one line (4 or 8 neighbours: 2 or 4 lines), has a jump to a nearer
+// neighbour on one side and to a farther one on the other, as a depth mixed between a foreground
+// and a background surface has: the rims of both surfaces and thin structures stay.
 struct JumpEdgeFilter {
   bool enabled = true;
   double min_angle = 0.0872664625997165;  // rad (5 deg)
