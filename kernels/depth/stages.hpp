@@ -27,11 +27,12 @@ struct Work {
 void checkValidity(const DepthFrameView& frame, const DepthValidity& c, float range_min, float range_max,
                    const float* range_per_depth, Work& work);
 
-// Rejects both pixels of every neighbour pair whose 3D edge runs within min_angle of the view
-// ray; xn, yn are the pixels' normalised image coordinates.
+// Rejects flying pixels by the angle between neighbour edges and the view ray (mode between or
+// any, see JumpEdgeFilter); xn, yn are the pixels' normalised image coordinates.
 void rejectJumpEdges(const JumpEdgeFilter& c, const float* xn, const float* yn, Work& work);
 
-// Eq. 6.4 iterated; rejects the pixels whose confidence ends below the threshold.
+// Eq. 6.4 iterated (with slope-aware predictions, see ConfidenceFilter); rejects the pixels
+// whose confidence ends below the threshold.
 void rejectLowConfidence(const ConfidenceFilter& c, const DepthFrameView& frame, Work& work);
 
 // Median or bilateral smoothing of the kept depth (OpenCV); rejected pixels stay rejected.

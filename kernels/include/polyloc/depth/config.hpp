@@ -51,8 +51,9 @@ struct JumpEdgeFilter {
 // Iteration t (1..iterations) keeps pixels with s >= threshold * t / iterations: early rounds
 // drop only the clearly unsupported, later ones judge against a cleaner neighbourhood.
 // c is the registered RGB (0..1 per channel) when given, else the logarithm of the amplitude
-// (a ratio: the amplitude itself falls with 1/r^2); w_ij -> 0 across a colour edge, where a
-// depth step is expected and not held against the pixel.
+// (a ratio: the amplitude itself falls with 1/r^2); j is the nearest source pixel of the
+// prediction. w_ij -> 0 across a colour edge, where a depth step is expected and not held
+// against the pixel.
 struct ConfidenceFilter {
   bool enabled = true;
   std::string prediction = "slope";  // slope | neighbour
