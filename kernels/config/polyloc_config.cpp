@@ -1,4 +1,5 @@
 #include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/depth/config_yaml.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
 #include <polyloc/vrs/config_yaml.hpp>
 #include <polyloc/tracking/config_yaml.hpp>
@@ -42,6 +43,7 @@ PolylocConfig loadConfig(const std::string& path) {
   c.vrs.robot_height = c.robot.height;
   if (m.has("vrs")) c.vrs = parseVrsConfig(m.map("vrs"), c.robot.height);
   if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), &c.rig);
+  if (m.has("depth_filter")) c.depth_filter = parseDepthFilterConfig(m.map("depth_filter"));
   m.finish();
   return c;
 }

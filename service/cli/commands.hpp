@@ -14,8 +14,9 @@ void registerInfo(CLI::App& app);         // polyloc info FILE          (cmd_inf
 void registerSimulate(CLI::App& app);     // polyloc simulate ...       (cmd_simulate.cpp)
 void registerLocalize(CLI::App& app);     // polyloc localize ...       (cmd_localize.cpp)
 void registerBenchMcl(CLI::App& bench);   // polyloc bench mcl ...      (cmd_bench_mcl.cpp)
-void registerEval(CLI::App& app);         // polyloc eval global|kidnap|tracking (cmd_eval.cpp)
+void registerEval(CLI::App& app);         // polyloc eval global|kidnap|tracking|depth (cmd_eval.cpp)
 void registerEvalTracking(CLI::App& eval); // polyloc eval tracking ...  (cmd_eval_tracking.cpp)
 void registerPerceive(CLI::App& app);     // polyloc perceive ...       (cmd_perceive.cpp)
+void registerEvalDepth(CLI::App& eval);   // polyloc eval depth ...     (cmd_eval_depth.cpp)
 
 }  // namespace polyloc::cli

@@ -45,6 +45,8 @@ int TopicRouter::sensorForDepth(const std::string& topic) const {
 TopicRouter::Result TopicRouter::route(const std::string& topic, int64_t log_time_ns, const msg::Message& m,
                                        std::vector<float>& ranges) {
   Result r;
+  // Ground truth the simulator records (/ground_truth/vrs is a LaserScan too) is no sensor.
+  if (topic.rfind("/ground_truth", 0) == 0) return r;
   if (const auto* scan = std::get_if<msg::LaserScan>(&m)) {
     r.sensor = sensorForScan(topic);
     if (r.sensor < 0) {

@@ -1,7 +1,8 @@
 // Which rig sensor a recorded topic feeds (`polyloc localize`, docs/localization.md): the
 // simulator's /scan/<sensor> (LaserScan) and /depth/<sensor>/image (32FC1 depth), a LaserScan on
 // /<sensor>, and CARMEN's /front_laser, /rear_laser, /robot_laser on the first, second, first
-// planar scanner of the rig when no sensor has that name. Turns a message into the ranges the
+// planar scanner of the rig when no sensor has that name; /ground_truth/... topics are no sensor.
+// Turns a message into the ranges the
 // Localizer takes, or says why it cannot (counted by the caller, warned once per topic).
 #pragma once
 

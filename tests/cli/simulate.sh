@@ -30,7 +30,7 @@ PY
 [ "$(grep -vc '^#' "$tmp/gt.tum")" = 501 ]
 [ "$(head -c 8 "$tmp/run.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]
 # The recording reads back with the same topics.
-"$polyloc" info "$tmp/run.mcap" --json | python3 -c 'import json,sys; t=json.load(sys.stdin)["topics"]; assert len(t) == 13, t'
+"$polyloc" info "$tmp/run.mcap" --json | python3 -c 'import json,sys; t=json.load(sys.stdin)["topics"]; assert len(t) == 16, t'
 # Same seed, same bytes; another seed, other bytes. The summary goes to stdout.
 run --out "$tmp/again.mcap" >"$tmp/summary.txt"
 grep -q '^simulated  10.0 s' "$tmp/summary.txt"

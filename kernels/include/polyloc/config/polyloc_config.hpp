@@ -8,10 +8,12 @@
 //   mcl: {...}                        # polyloc/mcl/config_yaml.hpp, docs/localization.md
 //   vrs: {...}                        # polyloc/vrs/config_yaml.hpp, docs/vrs.md
 //   tracking: {...}                   # polyloc/tracking/config_yaml.hpp, docs/tracking.md
+//   depth_filter: {...}               # polyloc/depth/config_yaml.hpp, docs/depth.md
 #pragma once
 
 #include <polyloc/config/robot.hpp>
 #include <polyloc/config/yaml.hpp>
+#include <polyloc/depth/config.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/mcl/config.hpp>
 #include <polyloc/sensors/rig.hpp>
@@ -35,6 +37,7 @@ struct PolylocConfig {
   MclConfig mcl;  // `mcl:` section (polyloc/mcl/config_yaml.hpp); defaults when absent
   VrsConfig vrs;  // `vrs:` section (polyloc/vrs/config_yaml.hpp); robot_height from robot.height
   TrackingConfig tracking;  // `tracking:` section (polyloc/tracking/config_yaml.hpp); defaults when absent
+  DepthFilterConfig depth_filter;  // `depth_filter:` section (polyloc/depth/config_yaml.hpp)
 };
 
 // Throws ConfigError naming file, line and key (also when the map file does not exist).
