@@ -1,6 +1,6 @@
-// polyloc perceive: runs perception over a recording (MCAP, ROS 2 bag, CARMEN): every frame into
-// the virtual range scan (kernels/vrs), the level scanners into people tracking
-// (kernels/tracking), at the pose of the recording's /ground_truth (what localisation gives) or
+// polyloc perceive: runs perception over a recording (MCAP, ROS 2 bag, CARMEN): depth frames
+// through the ToF filters (kernels/depth) and, as points, into the virtual range scan
+// (kernels/vrs) with every other frame, the level scanners into people tracking (kernels/tracking), at the pose of the recording's /ground_truth (what localisation gives) or
 // its odometry. Writes DIR/perception.mcap (/vrs, /vrs/localization as LaserScan in base_link,
 // /tracks as polyloc_msgs/TrackArray in map), PNG snapshots, and with the simulator's ground-truth
 // topics scores VRS and tracking (docs/vrs.md, docs/tracking.md).
@@ -9,10 +9,12 @@
 #include "viz/topview.hpp"
 
 #include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/depth/filter.hpp>
 #include <polyloc/eval/mot_metrics.hpp>
 #include <polyloc/eval/stats.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/map/load.hpp>
+#include <polyloc/sim/noise.hpp>
 #include <polyloc/sim/vrs_truth.hpp>
 #include <polyloc/tracking/people_tracker.hpp>
 #include <polyloc/vrs/virtual_scan.hpp>
@@ -25,7 +27,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <cstring>
 #include <map>
+#include <optional>
 
 namespace polyloc::cli {
 namespace {
@@ -131,7 +135,9 @@ void runPerceive(const PerceiveArgs& a) {
   VirtualRangeScanner vrs(cfg.rig, cfg.robot, vcfg, a.pose == "ground_truth" ? &map : nullptr);
   PeopleTracker people(cfg.rig, cfg.tracking);
   const std::vector<size_t> level = people.sensors();
-  const size_t trigger = level.empty() ? 0 : level.front();  // the VRS updates at its frames
+  // The VRS and the tracks update at the frames of the last level scanner in rig order: the
+  // recording has the other scanners' frames of that stamp by then.
+  const size_t trigger = level.empty() ? 0 : level.back();
   auto writer = createMcap(a.out + "/perception.mcap");
 
   uint64_t total = 0;
@@ -144,7 +150,8 @@ void runPerceive(const PerceiveArgs& a) {
   const bool tty = isatty(fileno(stderr));
   std::optional<Pose> pose;
   PeopleTruth truth_people;
-  std::map<int64_t, VirtualScan> recent_vrs;  // the last updates, until their truth comes
+  std::map<int64_t, VirtualScan> recent_vrs;      // the last updates, until their truth comes
+  std::map<int64_t, std::vector<float>> truth_vrs;  // /ground_truth/vrs, until its update comes
   struct Step {
     int64_t stamp;
     Eigen::Vector2d robot;
@@ -157,7 +164,38 @@ void runPerceive(const PerceiveArgs& a) {
   double vrs_sum2 = 0;
   size_t vrs_segments = 0, vrs_missed = 0, frames = 0, no_pose = 0, snapshots = 0;
   std::vector<std::string> pngs;
+  // Depth cameras: the filter, and each frame's image until its amplitude (and then its
+  // artefact tags, the simulator's truth) arrive.
+  std::vector<std::optional<DepthFilter>> filters(cfg.rig.size());
+  for (size_t k = 0; k < cfg.rig.size(); ++k)
+    if (const auto* cam = std::get_if<DepthCameraSpec>(&cfg.rig.sensors[k].spec))
+      filters[k].emplace(*cam, cfg.rig.sensors[k].mount, cfg.depth_filter);
+  struct DepthPending {
+    int64_t stamp = -1;
+    std::vector<float> depth;
+    DepthFilterResult result;
+    bool filtered = false;
+  };
+  std::vector<DepthPending> depth_pending(cfg.rig.size());
+  uint64_t depth_outliers = 0, depth_outliers_removed = 0, depth_valid = 0, depth_valid_kept = 0, depth_frames = 0;
+  std::vector<Eigen::Vector3f> points;
   std::vector<float> ranges;
+  auto scoreVrs = [&] {
+    for (auto it = truth_vrs.begin(); it != truth_vrs.end();) {
+      auto v = recent_vrs.find(it->first);
+      if (v == recent_vrs.end()) {
+        ++it;
+        continue;
+      }
+      if (it->first - first_ns > 1'000'000'000) {  // once every sensor has spoken
+        const VrsError e = compareVirtualScan(v->second.ranges, v->second.source, it->second, v->second.range_max, a.vrs_reach);
+        vrs_sum2 += e.rmse_m * e.rmse_m * double(e.segments), vrs_segments += e.segments, vrs_missed += e.missed;
+      }
+      it = truth_vrs.erase(it);
+    }
+    while (recent_vrs.size() > 4) recent_vrs.erase(recent_vrs.begin());
+    while (truth_vrs.size() > 4) truth_vrs.erase(truth_vrs.begin());
+  };
   RecordedMessage m;
   uint64_t read = 0;
   while (reader->next(m)) {
@@ -179,11 +217,41 @@ void runPerceive(const PerceiveArgs& a) {
       continue;
     }
     if (const auto* s = std::get_if<msg::LaserScan>(&m.message); s && m.topic == "/ground_truth/vrs") {
-      // The truth follows the scan of its stamp in the recording: score the VRS kept for it.
-      const int64_t ts = msg::toNs(s->header.stamp);
-      if (auto it = recent_vrs.find(ts); it != recent_vrs.end() && ts - first_ns > 1'000'000'000) {  // every sensor has spoken
-        const VrsError e = compareVirtualScan(it->second.ranges, it->second.source, s->ranges, it->second.range_max, a.vrs_reach);
-        vrs_sum2 += e.rmse_m * e.rmse_m * double(e.segments), vrs_segments += e.segments, vrs_missed += e.missed;
+      // The truth and the VRS of its stamp come in either order: score when both are there.
+      truth_vrs[msg::toNs(s->header.stamp)] = s->ranges;
+      scoreVrs();
+      continue;
+    }
+    // Depth images: /depth/<camera>/image, /amplitude, /artefacts (truth) share a stamp.
+    if (const auto* img = std::get_if<msg::Image>(&m.message); img && m.topic.rfind("/depth/", 0) == 0) {
+      const size_t slash = m.topic.rfind('/');
+      const int cam = cfg.rig.find(m.topic.substr(7, slash - 7));
+      if (cam < 0 || !filters[size_t(cam)]) continue;
+      const auto& spec = std::get<DepthCameraSpec>(cfg.rig.sensors[size_t(cam)].spec);
+      const std::string kind = m.topic.substr(slash + 1);
+      const int64_t stamp = msg::toNs(img->header.stamp);
+      DepthPending& dp = depth_pending[size_t(cam)];
+      const size_t n = size_t(spec.width) * size_t(spec.height);
+      const bool float_image = img->encoding == "32FC1" && img->width == uint32_t(spec.width) && img->height == uint32_t(spec.height) && img->data.size() == 4 * n;
+      if (kind == "image" && float_image) {
+        dp.stamp = stamp, dp.filtered = false;
+        dp.depth.resize(n);
+        std::memcpy(dp.depth.data(), img->data.data(), 4 * n);
+      } else if (kind == "amplitude" && float_image && dp.stamp == stamp && pose) {
+        std::vector<float> amp(n);
+        std::memcpy(amp.data(), img->data.data(), 4 * n);
+        filters[size_t(cam)]->apply(DepthFrameView{spec.width, spec.height, dp.depth.data(), amp.data(), nullptr}, dp.result);
+        dp.filtered = true, ++depth_frames, ++frames;
+        points.clear();
+        for (size_t k = 0; k < dp.result.x.size(); ++k) points.emplace_back(dp.result.x[k], dp.result.y[k], dp.result.z[k]);
+        vrs.addPoints(size_t(cam), stamp, *pose, points);
+      } else if (kind == "artefacts" && dp.filtered && dp.stamp == stamp && img->data.size() == n) {
+        for (size_t k = 0; k < n; ++k) {
+          const uint8_t bits = img->data[k] & (kArtefactFlyingPixel | kArtefactReflection);
+          const bool kept = dp.result.valid[k];
+          if (bits) ++depth_outliers, depth_outliers_removed += !kept;
+          else if (std::isfinite(dp.depth[k]) && dp.depth[k] > 0) ++depth_valid, depth_valid_kept += kept;
+        }
       }
       continue;
     }
@@ -210,7 +278,7 @@ void runPerceive(const PerceiveArgs& a) {
     writer->write("/vrs/localization", r.stamp_ns, toScan(v, v.ranges_max, r.stamp_ns, "base_link"));
     writer->write("/tracks", r.stamp_ns, toTracks(people.tracks(), r.stamp_ns, "map"));
     recent_vrs[r.stamp_ns] = v;
-    while (recent_vrs.size() > 4) recent_vrs.erase(recent_vrs.begin());
+    scoreVrs();
     // The people truth of a step comes after its scans: score the previous step now.
     if (have_truth_people && step) {
       const double dt = double(r.stamp_ns - step->stamp) * 1e-9;
@@ -248,8 +316,9 @@ void runPerceive(const PerceiveArgs& a) {
   } else {
     j["mota"] = j["track_rmse_m"] = j["id_switches_per_100s"] = nullptr;
   }
-  j["depth_outlier_removed"] = nullptr;  // the depth filters join here (docs/depth.md)
-  j["depth_valid_kept"] = nullptr;
+  j["depth_frames"] = depth_frames;
+  j["depth_outlier_removed"] = depth_outliers ? nlohmann::json(double(depth_outliers_removed) / double(depth_outliers)) : nlohmann::json();
+  j["depth_valid_kept"] = depth_valid ? nlohmann::json(double(depth_valid_kept) / double(depth_valid)) : nlohmann::json();
   const VrsCounters& c = vrs.counters();
   j["counters"] = {{"vrs_frames", c.frames}, {"vrs_frames_rejected", c.frames_rejected},
                    {"memory_inserted", c.memory_inserted}, {"memory_far", c.memory_far},
