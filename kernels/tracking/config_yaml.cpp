@@ -63,6 +63,9 @@ void parseTracker(ConfigMap m, TrackerConfig& c) {
   c.init_speed_sigma = m.getDouble("init_speed_sigma", c.init_speed_sigma, 0, 100);
   c.max_speed = m.getDouble("max_speed", c.max_speed, 0, 100);
   c.new_track_distance = m.getDouble("new_track_distance", c.new_track_distance, 0, 100);
+  c.revive_time = m.getDouble("revive_time", c.revive_time, 0, 3600);
+  c.revive_distance = m.getDouble("revive_distance", c.revive_distance, 0, 100);
+  c.revive_speed = m.getDouble("revive_speed", c.revive_speed, 0, 100);
   m.finish();
 }
 

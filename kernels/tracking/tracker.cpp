@@ -39,6 +39,7 @@ MultiTargetTracker::MultiTargetTracker(const TrackerConfig& config) : c_(config)
 
 void MultiTargetTracker::clear() {
   tracks_.clear();
+  lost_.clear();
   snapshot_ = {};
   started_ = false;
 }
@@ -78,6 +79,22 @@ Tracks MultiTargetTracker::predicted(int64_t stamp_ns) const {
   return out;
 }
 
+// A newly confirmed track takes the id of the nearest confirmed track dropped lately whose
+// position, moved on by its velocity, is within the search radius.
+void MultiTargetTracker::revive(Track& t, int64_t stamp_ns) {
+  if (c_.revive_time <= 0 || lost_.empty()) return;
+  size_t best = lost_.size();
+  double best_d = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < lost_.size(); ++k) {
+    const double gone = double(stamp_ns - lost_[k].stamp_ns) * 1e-9;
+    const double d = (lost_[k].position + lost_[k].velocity * gone - t.kf.position()).norm();
+    if (d <= c_.revive_distance + c_.revive_speed * gone && d < best_d) best = k, best_d = d;
+  }
+  if (best == lost_.size()) return;
+  t.id = lost_[best].id;
+  lost_.erase(lost_.begin() + ptrdiff_t(best));
+}
+
 bool MultiTargetTracker::update(int64_t stamp_ns, std::span<const Detection> detections, const VisibilityFn& seen) {
   if (started_ && stamp_ns < stamp_ns_) return false;
   const double dt = started_ ? double(stamp_ns - stamp_ns_) * 1e-9 : 0.0;
@@ -112,8 +129,10 @@ bool MultiTargetTracker::update(int64_t stamp_ns, std::span<const Detection> det
     ++t.hits;
     used[size_t(match[i])] = 1;
     if (t.status == TrackStatus::Tentative && t.hits >= uint32_t(c_.confirm_hits) &&
-        (t.kf.position() - t.origin).norm() >= c_.confirm_distance)
+        (t.kf.position() - t.origin).norm() >= c_.confirm_distance) {
       t.status = TrackStatus::Confirmed;
+      revive(t, stamp_ns);
+    }
   }
 
   std::vector<Track> dropped, live;
@@ -129,6 +148,10 @@ bool MultiTargetTracker::update(int64_t stamp_ns, std::span<const Detection> det
     else live.push_back(t);
   }
   tracks_ = std::move(live);
+  for (const Track& t : dropped)
+    if (t.status == TrackStatus::Confirmed && c_.revive_time > 0)
+      lost_.push_back({t.id, t.kf.position(), t.kf.velocity(), stamp_ns});
+  std::erase_if(lost_, [&](const Lost& l) { return double(stamp_ns - l.stamp_ns) * 1e-9 > c_.revive_time; });
 
   // Unassigned detections start tracks, except next to a confirmed one: that is the person's
   // other leg or a second scanner's view of the same person, not a new person.

@@ -158,7 +158,7 @@ void runPerceive(const PerceiveArgs& a) {
     std::vector<MotObject> hypotheses;
   };
   std::optional<Step> step;
-  MotAccumulator mot(0.5, 2.0);
+  MotAccumulator mot(0.5);  // plain CLEAR-MOT: a person back under a new id is a switch
   bool have_truth_people = false;
   std::vector<double> update_ms;
   double vrs_sum2 = 0;

@@ -164,3 +164,37 @@ TEST(TrackingTracker, BadDetectionsAndStampsAreIgnored) {
   EXPECT_EQ(later.items.size(), 1u);
   EXPECT_EQ(later.stamp_ns, 10 * kStep);
 }
+
+TEST(TrackingTracker, PersonBackFromHidingKeepsTheirId) {
+  TrackerConfig c;
+  c.confirm_distance = 0;
+  c.timeout = 0.5;
+  // Walks at 1.25 m/s along x; hidden from 1.6 s to 4.0 s (its track is dropped), then seen
+  // again where it walked on to, and somebody else appears far off at the same time.
+  auto run = [&](const TrackerConfig& cfg, uint32_t& first_id, uint32_t& back_id, uint32_t& other_id) {
+    MultiTargetTracker tracker(cfg);
+    for (int k = 0; k <= 70; ++k) {
+      const int64_t t = k * kStep;
+      const double x = 0.1 * k;
+      std::vector<Detection> d;
+      if (k < 20 || k >= 50) d.push_back(at(x, 0, t));
+      if (k >= 50) d.push_back(at(x - 4.0, 3.0, t));
+      tracker.update(t, d);
+      for (const TrackState& s : tracker.tracks().items) {
+        if (s.status != TrackStatus::Confirmed) continue;
+        if (k == 10) first_id = s.id;
+        if (k == 70 && s.position.y() < 1) back_id = s.id;
+        if (k == 70 && s.position.y() > 1) other_id = s.id;
+      }
+    }
+  };
+  uint32_t a = 0, b = 0, o = 0;
+  run(c, a, b, o);
+  EXPECT_NE(a, 0u);
+  EXPECT_EQ(b, a);  // revived: within revive_distance + revive_speed x 2.4 s of where it walked to
+  EXPECT_NE(o, a);  // the stranger 4 m away gets an id of their own
+  EXPECT_NE(o, 0u);
+  c.revive_time = 0;  // off: a new id
+  run(c, a, b, o);
+  EXPECT_NE(b, a);
+}

@@ -70,6 +70,12 @@ struct TrackerConfig {
   double init_speed_sigma = 1.0;    // m/s: velocity std of a new track (velocity starts at 0)
   double max_speed = 2.5;           // m/s: faster estimates are clamped (no person runs indoors)
   double new_track_distance = 0.5;  // m: no new track this close to a confirmed one (its other leg)
+  // A track confirmed near where a confirmed one was dropped up to revive_time ago (its position
+  // moved on by its velocity, within revive_distance + revive_speed x the time gone) takes that
+  // track's id: a person who was hidden behind another one keeps their identity (0: off).
+  double revive_time = 10.0;        // s (crowd: 3 s revived 2 of 16 people back in view, 10 s 12)
+  double revive_distance = 1.0;     // m
+  double revive_speed = 1.0;        // m/s: growth of the search radius while gone
 };
 
 struct TrackingConfig {

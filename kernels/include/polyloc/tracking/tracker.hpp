@@ -77,7 +77,14 @@ class MultiTargetTracker {
   void snapshot(int64_t stamp_ns, const std::vector<Track>& dropped);
 
   TrackerConfig c_;
+  void revive(Track& t, int64_t stamp_ns);
   std::vector<Track> tracks_;
+  struct Lost {
+    uint32_t id;
+    Eigen::Vector2d position, velocity;
+    int64_t stamp_ns;
+  };
+  std::vector<Lost> lost_;  // confirmed tracks dropped lately (revive_time), for their ids
   uint32_t next_id_ = 1;
   int64_t stamp_ns_ = 0;
   bool started_ = false;
