@@ -28,10 +28,7 @@ struct Workload {
   Workload() {
     scenario.duration = 30;
     Simulator sim(scenario, map);
-    struct Null final : RecordingWriter {
-      void write(const std::string&, int64_t, const msg::Message&) override {}
-      void close() override {}
-    } sink;
+    NullRecordingWriter sink;
     Cycle open;
     std::vector<bool> have(scenario.config.rig.size(), false);
     SimHooks hooks;

@@ -5,9 +5,7 @@ namespace polyloc {
 DepthFilterConfig parseDepthFilterConfig(ConfigMap m) {
   DepthFilterConfig c;
   auto intIn = [](ConfigMap& s, const char* key, int def, int lo, int hi) {
-    const int64_t v = s.getInt(key, def);
-    if (v < lo || v > hi) s.value(key).fail("must be between " + std::to_string(lo) + " and " + std::to_string(hi));
-    return int(v);
+    return int(s.getCount(key, size_t(def), size_t(lo), size_t(hi)));
   };
   if (m.has("validity")) {
     ConfigMap s = m.map("validity");

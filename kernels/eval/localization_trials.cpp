@@ -32,12 +32,6 @@ struct Drive {
   std::vector<StampedPose> truth;
 };
 
-class NullWriter final : public RecordingWriter {
- public:
-  void write(const std::string&, int64_t, const msg::Message&) override {}
-  void close() override {}
-};
-
 // Free distance ahead at the robot's heights, along three parallel lines (centre and both
 // flanks), so the body fits through.
 double freeAhead(const RayCaster& caster, const Eigen::Vector2d& p, double yaw, double half_width) {
@@ -92,7 +86,7 @@ Drive simulateDrive(Scenario s, const Mesh& map, const RouteSpec& route, const P
   Simulator sim(std::move(s), map);
   Drive d;
   d.start = start;
-  NullWriter null;
+  NullRecordingWriter null;
   SimHooks hooks;
   hooks.on_tick = [&](int64_t t, const Pose& gt, const Pose& odom) {
     d.events.push_back(Event{t, -1, odom, gt, {}});

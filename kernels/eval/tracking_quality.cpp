@@ -9,12 +9,6 @@
 namespace polyloc {
 namespace {
 
-class NullWriter final : public RecordingWriter {
- public:
-  void write(const std::string&, int64_t, const msg::Message&) override {}
-  void close() override {}
-};
-
 struct Frame {
   size_t sensor = 0;
   int64_t stamp_ns = 0;
@@ -83,7 +77,7 @@ TrackingQuality evaluateTracking(const Scenario& scenario, const Mesh& map, cons
     frames.push_back(std::move(fr));
   };
   if (progress) hooks.on_progress = progress;
-  NullWriter null;
+  NullRecordingWriter null;
   sim.run(null, hooks);
   std::stable_sort(frames.begin(), frames.end(), [](const Frame& a, const Frame& b) {
     return a.stamp_ns != b.stamp_ns ? a.stamp_ns < b.stamp_ns : a.sensor < b.sensor;

@@ -78,4 +78,14 @@ std::unique_ptr<RecordingReader> openRecording(const std::string& path) {
   throw IoError(unreadable);
 }
 
+RecordingSpan spanOf(const std::vector<TopicInfo>& topics) {
+  RecordingSpan r;
+  for (const TopicInfo& t : topics) {
+    r.messages += t.count;
+    if (t.count && (r.first_ns == 0 || t.first_ns < r.first_ns)) r.first_ns = t.first_ns;
+    r.last_ns = std::max(r.last_ns, t.last_ns);
+  }
+  return r;
+}
+
 }  // namespace polyloc

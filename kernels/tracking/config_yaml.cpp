@@ -27,9 +27,7 @@ void parseMotion(ConfigMap m, MotionConfig& c) {
   c.grow_distance = m.getDouble("grow_distance", c.grow_distance, 0, 10);
   c.turn_margin = m.getDouble("turn_margin", c.turn_margin, 0, 10);
   c.travel_margin = m.getDouble("travel_margin", c.travel_margin, 0, 10);
-  const int64_t w = m.getInt("window_beams", c.window_beams);
-  if (w < 0 || w > 50) m.value("window_beams").fail("must be between 0 and 50");
-  c.window_beams = int(w);
+  c.window_beams = int(m.getCount("window_beams", size_t(c.window_beams), 0, 50));
   c.jump_distance = m.getDouble("jump_distance", c.jump_distance, 0, 1000);
   c.jump_angle = m.getAngle("jump_angle", c.jump_angle);
   c.max_moved_fraction = m.getDouble("max_moved_fraction", c.max_moved_fraction, 0, 1);
@@ -38,9 +36,7 @@ void parseMotion(ConfigMap m, MotionConfig& c) {
 
 void parseCluster(ConfigMap m, ClusterConfig& c) {
   c.distance = m.getDouble("distance", c.distance, 1e-3, 10);
-  const int64_t n = m.getInt("min_points", int64_t(c.min_points));
-  if (n < 1 || n > 100000) m.value("min_points").fail("must be between 1 and 100000");
-  c.min_points = size_t(n);
+  c.min_points = m.getCount("min_points", c.min_points, 1, 100000);
   c.max_extent = m.getDouble("max_extent", c.max_extent, 1e-3, 100);
   c.surface_offset = m.getDouble("surface_offset", c.surface_offset, -1, 1);
   c.min_sigma = m.getDouble("min_sigma", c.min_sigma, 0, 10);
@@ -51,9 +47,7 @@ void parseTracker(ConfigMap m, TrackerConfig& c) {
   c.acceleration_sigma = m.getDouble("acceleration_sigma", c.acceleration_sigma, 0, 100);
   c.measurement_sigma = m.getDouble("measurement_sigma", c.measurement_sigma, 1e-4, 10);
   c.gate = m.getDouble("gate", c.gate, 0.1, 100);
-  const int64_t h = m.getInt("confirm_hits", c.confirm_hits);
-  if (h < 1 || h > 1000) m.value("confirm_hits").fail("must be between 1 and 1000");
-  c.confirm_hits = int(h);
+  c.confirm_hits = int(m.getCount("confirm_hits", size_t(c.confirm_hits), 1, 1000));
   c.confirm_time = m.getDouble("confirm_time", c.confirm_time, 0, 3600);
   c.confirm_distance = m.getDouble("confirm_distance", c.confirm_distance, 0, 100);
   c.timeout = m.getDouble("timeout", c.timeout, 0, 3600);

@@ -154,13 +154,7 @@ void runLocalize(const LocalizeArgs& a) {
     if (auto dir = std::filesystem::path(a.out).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
     tum = std::make_unique<TumWriter>(a.out);
   }
-  uint64_t total = 0;
-  int64_t first_ns = 0, last_ns = 0;
-  for (const TopicInfo& t : reader->topics()) {
-    total += t.count;
-    if (t.count && (first_ns == 0 || t.first_ns < first_ns)) first_ns = t.first_ns;
-    last_ns = std::max(last_ns, t.last_ns);
-  }
+  const auto [total, first_ns, last_ns] = spanOf(reader->topics());
   const bool tty = isatty(fileno(stderr));
 
   viz::LocalizePlotData plot;

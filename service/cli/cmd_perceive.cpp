@@ -17,6 +17,7 @@
 #include <polyloc/sim/noise.hpp>
 #include <polyloc/sim/vrs_truth.hpp>
 #include <polyloc/tracking/people_tracker.hpp>
+#include <polyloc/vrs/moving_objects.hpp>
 #include <polyloc/vrs/virtual_scan.hpp>
 
 #include <fmt/core.h>
@@ -140,13 +141,7 @@ void runPerceive(const PerceiveArgs& a) {
   const size_t trigger = level.empty() ? 0 : level.back();
   auto writer = createMcap(a.out + "/perception.mcap");
 
-  uint64_t total = 0;
-  int64_t first_ns = 0, last_ns = 0;
-  for (const TopicInfo& t : reader->topics()) {
-    total += t.count;
-    if (t.count && (first_ns == 0 || t.first_ns < first_ns)) first_ns = t.first_ns;
-    last_ns = std::max(last_ns, t.last_ns);
-  }
+  const auto [total, first_ns, last_ns] = spanOf(reader->topics());
   const bool tty = isatty(fileno(stderr));
   std::optional<Pose> pose;
   PeopleTruth truth_people;
@@ -267,11 +262,8 @@ void runPerceive(const PerceiveArgs& a) {
     if (std::count(level.begin(), level.end(), sensor)) people.addScan(sensor, r.stamp_ns, cfg.rig.sensors[sensor].worldPose(*pose), ranges);
     if (sensor != trigger) continue;
     people.flush();
-    std::vector<MovingObject> moving;
-    for (const TrackState& t : people.tracks().items)
-      if (t.status == TrackStatus::Confirmed) moving.push_back({t.position, t.velocity, t.position_cov, people.tracks().stamp_ns});
     const auto t0 = Clock::now();
-    vrs.setMovingObjects(moving);
+    vrs.setMovingObjects(movingObjects(people.tracks()));
     const VirtualScan v = vrs.update(r.stamp_ns, *pose);
     update_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     writer->write("/vrs", r.stamp_ns, toScan(v, v.ranges, r.stamp_ns, "base_link"));

@@ -40,26 +40,15 @@ TEST(VrsScenario, ChairSeatAboveTheScanPlane) {
   const Rig lisa = rigPreset("lisa");
   RobotSpec robot = vrsScenario(d).config.robot;
   VirtualRangeScanner full(lisa, robot, d.config), flat(lisa, robot, horizontalOnly());
-  double last_err = 1e9, last_flat = 0, worst_standing = 0, t_end = 0;
+  double last_err = 1e9, last_flat = 0, worst_standing = 0, t_end = 0, stop_t = 0;
   size_t standing = 0;
   // Both scanners side by side on the same frames.
-  Simulator sim(vrsScenario(d), d.map);
-  struct Null final : RecordingWriter {
-    void write(const std::string&, int64_t, const msg::Message&) override {}
-    void close() override {}
-  } sink;
-  const double stop_t = sim.duration() - d.wait;
-  SimHooks hooks;
-  hooks.on_frame = [&](const SimFrame& f) {
-    full.addFrame(f.sensor, f.stamp_ns, f.map_T_base, f.measured);
-    flat.addFrame(f.sensor, f.stamp_ns, f.map_T_base, f.measured);
-    if (f.sensor != 0) return;
-    const VirtualScan v = full.update(f.stamp_ns, f.map_T_base), w = flat.update(f.stamp_ns, f.map_T_base);
-    const double truth = ahead(f.map_T_base, edge);
-    last_err = std::abs(vrsAt(v, 0) - truth), last_flat = vrsAt(w, 0) - truth, t_end = f.t;
-    if (f.t > stop_t + 0.5) worst_standing = std::max(worst_standing, last_err), ++standing;
-  };
-  sim.run(sink, hooks);
+  runVrs(d, {&full, &flat}, [&](const VrsStep& s) {
+    stop_t = s.sim.duration() - d.wait;
+    const double truth = ahead(s.truth, edge);
+    last_err = std::abs(vrsAt(s.scans[0], 0) - truth), last_flat = vrsAt(s.scans[1], 0) - truth, t_end = s.t;
+    if (s.t > stop_t + 0.5) worst_standing = std::max(worst_standing, last_err), ++standing;
+  });
   std::printf("[vrs] chair: full VRS error %.3f m (worst while standing %.3f m over %zu updates), flat VRS %.2f m behind the seat\n",
               last_err, worst_standing, standing, last_flat);
   EXPECT_GT(standing, 40u);

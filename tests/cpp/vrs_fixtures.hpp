@@ -8,9 +8,11 @@
 #include <polyloc/mapgen/builder.hpp>
 #include <polyloc/sensors/rig.hpp>
 #include <polyloc/tracking/people_tracker.hpp>
+#include <polyloc/vrs/moving_objects.hpp>
 #include <polyloc/vrs/virtual_scan.hpp>
 
 #include <functional>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 
@@ -18,7 +20,8 @@ namespace polyloc::test {
 
 struct VrsStep {
   double t = 0;            // s since the start
-  const VirtualScan& scan;
+  const VirtualScan& scan;                // of the first scanner
+  const std::vector<VirtualScan>& scans;  // of each scanner run
   const Pose& truth;       // map_T_base
   const Simulator& sim;
 };
@@ -39,14 +42,6 @@ struct VrsDrive {
   TrackingConfig tracking;
 };
 
-// The confirmed tracks of a PeopleTracker as moving objects.
-inline std::vector<MovingObject> movingObjects(const Tracks& tracks) {
-  std::vector<MovingObject> out;
-  for (const TrackState& t : tracks.items)
-    if (t.status == TrackStatus::Confirmed) out.push_back({t.position, t.velocity, t.position_cov, tracks.stamp_ns});
-  return out;
-}
-
 inline Scenario vrsScenario(const VrsDrive& d) {
   Scenario s;
   s.config.robot.footprint = {{0.3, 0.25}, {-0.3, 0.25}, {-0.3, -0.25}, {0.3, -0.25}};
@@ -61,39 +56,46 @@ inline Scenario vrsScenario(const VrsDrive& d) {
   return s;
 }
 
-inline void runVrs(const VrsDrive& d, VirtualRangeScanner& vrs, const std::function<void(const VrsStep&)>& on_update) {
+// Every scanner in `vrs` gets the same frames and updates; the step carries the first one's scan
+// and all of them (in the order given).
+inline void runVrs(const VrsDrive& d, std::initializer_list<VirtualRangeScanner*> vrs,
+                   const std::function<void(const VrsStep&)>& on_update) {
   Simulator sim(vrsScenario(d), d.map);
-  struct Null final : RecordingWriter {
-    void write(const std::string&, int64_t, const msg::Message&) override {}
-    void close() override {}
-  } sink;  // the recording itself is not needed; frames come through the hook
+  NullRecordingWriter sink;  // the recording itself is not needed; frames come through the hook
   SimHooks hooks;
   std::optional<PeopleTracker> people;
   if (d.track_people) people.emplace(sim.scenario().config.rig, d.tracking);
+  std::vector<VirtualScan> scans(vrs.size());
   hooks.on_frame = [&](const SimFrame& f) {
     if (people) {
       people->addScan(f.sensor, f.stamp_ns, f.map_T_sensor, f.measured);
-      if (f.sensor == 0) people->flush(), vrs.setMovingObjects(movingObjects(people->tracks()));
+      if (f.sensor == 0) {
+        people->flush();
+        for (VirtualRangeScanner* v : vrs) v->setMovingObjects(movingObjects(people->tracks()));
+      }
     }
+    std::vector<float> r = f.measured;
     if (d.clean_tof && f.sensor == 6) {
       // ToF outliers (flying pixels, reflections) removed, as the depth filters do before the
       // VRS: here by the simulator's own tags.
-      std::vector<float> r = f.measured;
       for (size_t i = 0; i < r.size(); ++i)
         if (f.artefacts[i] & (kArtefactFlyingPixel | kArtefactReflection)) r[i] = std::numeric_limits<float>::quiet_NaN();
-      vrs.addFrame(f.sensor, f.stamp_ns, f.map_T_base, r);
-    } else {
-      vrs.addFrame(f.sensor, f.stamp_ns, f.map_T_base, f.measured);
     }
+    for (VirtualRangeScanner* v : vrs) v->addFrame(f.sensor, f.stamp_ns, f.map_T_base, r);
     if (f.sensor != 0) return;
-    if (d.moving) {
-      const std::vector<MovingObject> m = d.moving(f.t, sim);
-      vrs.setMovingObjects(m);
+    const std::vector<MovingObject> m = d.moving ? d.moving(f.t, sim) : std::vector<MovingObject>{};
+    size_t k = 0;
+    for (VirtualRangeScanner* v : vrs) {
+      if (d.moving) v->setMovingObjects(m);
+      scans[k++] = v->update(f.stamp_ns, f.map_T_base);
     }
-    const VirtualScan v = vrs.update(f.stamp_ns, f.map_T_base);
-    on_update(VrsStep{f.t, v, f.map_T_base, sim});
+    on_update(VrsStep{f.t, scans.front(), scans, f.map_T_base, sim});
   };
   sim.run(sink, hooks);
+}
+
+inline void runVrs(const VrsDrive& d, VirtualRangeScanner& vrs, const std::function<void(const VrsStep&)>& on_update) {
+  runVrs(d, {&vrs}, on_update);
 }
 
 // The ground-truth people as tracked objects (position, 10 cm std).

@@ -75,6 +75,20 @@ struct McapWriteOptions {
   std::string profile = "ros2";
 };
 std::unique_ptr<RecordingWriter> createMcap(const std::string& path, const McapWriteOptions& o = {});
+// Discards every message: for simulations whose frames are taken from hooks, not from a file.
+class NullRecordingWriter final : public RecordingWriter {
+ public:
+  void write(const std::string&, int64_t, const msg::Message&) override {}
+  void close() override {}
+};
+
+// Messages and time span of a recording, from its topics (for progress and relative times).
+struct RecordingSpan {
+  uint64_t messages = 0;
+  int64_t first_ns = 0, last_ns = 0;
+};
+RecordingSpan spanOf(const std::vector<TopicInfo>& topics);
+
 // ROS 2 bag directory (metadata.yaml + NAME_0.db3), as `ros2 bag record` writes it.
 std::unique_ptr<RecordingWriter> createRos2Bag(const std::string& directory);
 
