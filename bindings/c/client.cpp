@@ -381,9 +381,13 @@ int polyloc_read_next(polyloc_client* c, int channel, void* buf, uint32_t capaci
 }
 
 int polyloc_wait(polyloc_client* c, int channel, int64_t timeout_ns) {
+  return polyloc_wait_spin(c, channel, timeout_ns, polyloc::shm::kDefaultSpinNs);
+}
+
+int polyloc_wait_spin(polyloc_client* c, int channel, int64_t timeout_ns, int64_t spin_ns) {
   return guarded([&]() -> int {
     channelOf(c, channel, "polyloc_wait");
-    if (c->readers[channel]->wait(timeout_ns)) return POLYLOC_OK;
+    if (c->readers[channel]->wait(timeout_ns, spin_ns)) return POLYLOC_OK;
     if (timeout_ns != 0 && c->seg->stale())
       raise(POLYLOC_ERR_STALE, "polyloc_wait: " + c->seg->name() + " is stale (polylocd stopped or restarted): re-attach");
     return POLYLOC_TIMEOUT;

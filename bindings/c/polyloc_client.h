@@ -121,6 +121,10 @@ POLYLOC_API int polyloc_read_next(polyloc_client* c, int channel, void* buf, uin
  * (< 0: no limit, 0: poll). POLYLOC_OK, POLYLOC_TIMEOUT, or POLYLOC_ERR_STALE when it timed
  * out because polylocd is gone. */
 POLYLOC_API int polyloc_wait(polyloc_client* c, int channel, int64_t timeout_ns);
+/* The same, spinning up to spin_ns before sleeping: a frame that comes within spin_ns is seen
+ * in about a microsecond instead of after a thread wake-up (tens of microseconds on a VM), at
+ * the cost of a busy CPU meanwhile (docs/interface.md, "Waiting"). */
+POLYLOC_API int polyloc_wait_spin(polyloc_client* c, int channel, int64_t timeout_ns, int64_t spin_ns);
 
 #ifdef __cplusplus
 }

@@ -132,6 +132,7 @@ void registerBench(CLI::App& app) {
   rc.add_flag("--json", args->json, "Print one JSON object on stdout");
   rc.callback([args] { runBenchRaycast(*args); });
   registerBenchMcl(bench);
+  registerBenchIpc(bench);
 }
 
 }  // namespace polyloc::cli

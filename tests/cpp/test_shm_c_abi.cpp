@@ -109,6 +109,7 @@ TEST(ShmCAbi, WritesInputsAndReadsOutputs) {
     wp.write(&q, sizeof q, i);
   }
   EXPECT_EQ(polyloc_wait(c, pose, 1'000'000), POLYLOC_OK);
+  EXPECT_EQ(polyloc_wait_spin(c, pose, 1'000'000, 10'000), POLYLOC_OK);
   ASSERT_EQ(polyloc_next_pose(c, &out, &info), POLYLOC_OK);
   EXPECT_EQ(out.x, 1.0);
   EXPECT_EQ(info.frame, 0u);
