@@ -226,7 +226,7 @@ std::optional<FrameInfo> Reader::next(std::vector<uint8_t>& payload) {
     const polyloc_slot_header* slot = locate(info, seq);
     if (!slot) return std::nullopt;
     payload.resize(std::min(info.size, cap));
-    std::memcpy(payload.data(), slot + 1, payload.size());
+    if (!payload.empty()) std::memcpy(payload.data(), slot + 1, payload.size());
     if (confirm(slot, seq)) return info;
   }
   return std::nullopt;
