@@ -14,7 +14,9 @@ for name in ("shm", "uds", "tcp", "shm_spin"):
     for key in ("p50_us", "p99_us", "p999_us", "max_us", "send_p50_us"):
         assert t[key] > 0, (name, key, t)
     assert t["p50_us"] <= t["p99_us"] <= t["p999_us"] <= t["max_us"], (name, t)
-    assert t["received"] == 300, (name, t)
+    # Sockets lose nothing; a shm reader descheduled for longer than its ring lasts skips ahead.
+    assert t["received"] + t["lost"] == 300 and t["received"] > 0, (name, t)
+    assert name.startswith("shm") or t["lost"] == 0, (name, t)
 assert j["ratio_shm_p99_to_uds_p99"] > 0, j
 assert isinstance(j["target_met"], bool), j
 PY

@@ -122,15 +122,20 @@ TEST(ShmCrash, WriterKilledAtRandomMomentsNeverShowsATornFrame) {
       }
       _exit(3);
     }
-    // Read while it writes, then kill it at some moment, likely inside a frame.
-    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(15 + 7 * round);
+    // Once it writes, read while it does, then kill it at some moment, likely inside a frame.
+    const uint64_t before = seg.ring(0)->write_count;
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (__atomic_load_n(&seg.ring(0)->write_count, __ATOMIC_ACQUIRE) < before + 10 &&
+           std::chrono::steady_clock::now() < give_up)
+      drain();
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(5 + 7 * round);
     while (std::chrono::steady_clock::now() < end) drain();
     killAndReap(child);
     drain();
   }
   EXPECT_GT(seen, 0u);
   EXPECT_EQ(bad, 0u);
-  EXPECT_GE(seg.ring(0)->writer_claims, 2u);   // each child after the first took over a dead holder
+  EXPECT_EQ(seg.ring(0)->writer_claims, 6u);   // each child after the first took over a dead holder
 }
 
 }  // namespace
