@@ -21,6 +21,7 @@ namespace {
 struct BenchIpcArgs {
   IpcLatencyConfig config;
   double spin_us = shm::kDefaultSpinNs / 1000.0;
+  size_t rounds = 4;
   bool pin = true;
   bool json = false;
 };
@@ -79,25 +80,38 @@ void runBenchIpc(BenchIpcArgs a) {
                                   {"uds", udsLatency, 0},
                                   {"tcp", tcpLatency, 0},
                                   {"shm_spin", shmLatency, always_spin_ns}};
+  // In rounds, the transports taking turns: a change in the machine's load hits them alike.
+  std::map<std::string, IpcSamples> all;
+  const size_t rounds = std::max<size_t>(1, std::min(a.rounds, c.messages));
+  IpcLatencyConfig rc = c;
+  for (size_t r = 0; r < rounds; ++r) {
+    rc.messages = c.messages / rounds + (r + 1 == rounds ? c.messages % rounds : 0);
+    for (const Transport& x : transports) {
+      fmt::print(stderr, "bench ipc: round {}/{}: {} ({} messages of {} bytes, one per {} us)\n", r + 1, rounds, x.name,
+                 rc.messages, rc.bytes, rc.period_us);
+      auto progress = [&, name = x.name](double f) {
+        if (tty) fmt::print(stderr, "\r  {} {:3.0f} %", name, 100 * f);
+      };
+      rc.spin_ns = x.spin_ns;
+      IpcSamples got = x.run(rc, progress);
+      if (tty) fmt::print(stderr, "\r");
+      IpcSamples& acc = all[x.name];
+      acc.latency_ns.insert(acc.latency_ns.end(), got.latency_ns.begin(), got.latency_ns.end());
+      acc.send_ns.insert(acc.send_ns.end(), got.send_ns.begin(), got.send_ns.end());
+    }
+  }
   nlohmann::json t = nlohmann::json::object();
   std::map<std::string, Stats> s;
   for (const Transport& x : transports) {
-    fmt::print(stderr, "bench ipc: {} ({} messages of {} bytes, one per {} us)\n", x.name, c.messages, c.bytes,
-               c.period_us);
-    auto progress = [&, name = x.name](double f) {
-      if (tty) fmt::print(stderr, "\r  {} {:3.0f} %", name, 100 * f);
-    };
-    c.spin_ns = x.spin_ns;
-    const IpcSamples samples = x.run(c, progress);
-    if (tty) fmt::print(stderr, "\r");
-    s[x.name] = stats(samples.latency_ns);
-    t[x.name] = statsJson(s[x.name], stats(samples.send_ns), c.messages);
+    s[x.name] = stats(all[x.name].latency_ns);
+    t[x.name] = statsJson(s[x.name], stats(all[x.name].send_ns), c.messages);
   }
   t["shm_spin"]["spin_us"] = always_spin_ns * 1e-3;
   const double ratio = s["shm"].p99 / s["uds"].p99, ratio_spin = s["shm_spin"].p99 / s["uds"].p99;
   nlohmann::json j;
   j["message_bytes"] = c.bytes;
   j["messages"] = c.messages;
+  j["rounds"] = rounds;
   j["period_us"] = c.period_us;
   j["spin_us"] = a.spin_us;
   j["writer_cpu"] = c.writer_cpu;
@@ -106,18 +120,19 @@ void runBenchIpc(BenchIpcArgs a) {
   j["transports"] = t;
   j["ratio_shm_p99_to_uds_p99"] = ratio;
   j["ratio_shm_spin_p99_to_uds_p99"] = ratio_spin;
-  j["target_met"] = s["shm"].p99 <= 10.0 && ratio <= 0.1;
-  j["target_met_spinning"] = s["shm_spin"].p99 <= 10.0 && ratio_spin <= 0.1;
+  // A lost message is a latency beyond measure: a run that lost any does not meet the target.
+  j["target_met"] = s["shm"].p99 <= 10.0 && ratio <= 0.1 && s["shm"].count == c.messages;
+  j["target_met_spinning"] = s["shm_spin"].p99 <= 10.0 && ratio_spin <= 0.1 && s["shm_spin"].count == c.messages;
   if (a.json) {
     fmt::print("{}\n", j.dump());
     return;
   }
   fmt::print("one-way latency, {} messages of {} bytes, one per {} us, CPUs {} -> {}, rt priority {}\n", c.messages,
              c.bytes, c.period_us, c.writer_cpu, c.reader_cpu, c.rt_priority);
-  fmt::print("{:>9} {:>9} {:>9} {:>9} {:>9}  (us)\n", "", "p50", "p99", "p99.9", "max");
+  fmt::print("{:>9} {:>9} {:>9} {:>9} {:>9}  (us; lost: lapped by the writer)\n", "", "p50", "p99", "p99.9", "max");
   for (const Transport& x : transports)
-    fmt::print("{:>9} {:9.2f} {:9.2f} {:9.2f} {:9.2f}\n", x.name, s[x.name].p50, s[x.name].p99, s[x.name].p999,
-               s[x.name].max);
+    fmt::print("{:>9} {:9.2f} {:9.2f} {:9.2f} {:9.2f}  {} lost\n", x.name, s[x.name].p50, s[x.name].p99, s[x.name].p999,
+               s[x.name].max, c.messages - s[x.name].count);
   fmt::print("shm (spin {} us, then futex): p99 / uds p99 = {:.3f}; shm_spin (spin {} us): {:.3f}; target: p99 <= 10 us "
              "and ratio <= 0.1\n",
              a.spin_us, ratio, always_spin_ns * 1e-3, ratio_spin);
@@ -136,6 +151,8 @@ void registerBenchIpc(CLI::App& bench) {
   ipc.add_option("--period-us", a->config.period_us, "Time between messages (us)")->capture_default_str()->check(CLI::PositiveNumber);
   ipc.add_option("--spin-us", a->spin_us, "shm: the reader spins this long before FUTEX_WAIT (Reader::wait)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
+  ipc.add_option("--rounds", a->rounds, "Rounds in which the transports take turns (messages split among them)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   ipc.add_flag("!--no-pin", a->pin, "Do not pin writer and reader to two CPUs");
   ipc.add_option("--rt-priority", a->config.rt_priority, "SCHED_FIFO priority of writer and reader (0: normal threads)")
       ->capture_default_str()->check(CLI::Range(0, 99));

@@ -14,7 +14,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cerrno>
 #include <cstring>
 #include <exception>
@@ -181,7 +183,12 @@ IpcSamples shmLatency(const IpcLatencyConfig& c, const std::function<void(double
   spec.name = "scan/bench";
   spec.kind = POLYLOC_KIND_RANGES;
   spec.direction = POLYLOC_DIR_INPUT;  // the controller -> polylocd path: doorbell included
-  spec.slot_count = 64;
+  // Room for 200 ms of messages (at most 64 MiB): a socket buffers what its reader has not
+  // taken (and then blocks the writer); a ring of that depth lets a reader that was kept off its
+  // CPU for a while catch up too, instead of losing messages the sockets would have kept.
+  const uint64_t want = static_cast<uint64_t>(200'000 / c.period_us) + 1;
+  const uint64_t fit = std::max<uint64_t>(64, (64ull << 20) / (c.bytes + 128));
+  spec.slot_count = static_cast<uint32_t>(std::clamp<uint64_t>(std::bit_ceil(want), 64, std::bit_floor(fit)));
   spec.payload_max = c.bytes;
   auto seg = shm::Segment::create(instance, {spec});
   seg.ready();

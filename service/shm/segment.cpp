@@ -185,7 +185,8 @@ struct Segment::Impl {
                      "segment " + name + " has " + std::to_string(size) + " bytes, less than its header's " +
                          std::to_string(sizeof(polyloc_shm_header)));
     }
-    void* p = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    // MAP_POPULATE: the page tables are filled now, not by page faults in the first frames.
+    void* p = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, fd, 0);
     const int e = errno;
     close(fd);
     if (p == MAP_FAILED) throw ShmError(Errc::System, sysText("cannot map " + what, e));

@@ -28,8 +28,8 @@ struct Validation {
 };
 
 // payload/bytes: the frame as read from the slot (bytes = slot size field, not trusted).
-// RANGES: count == channel count, size exact; a frame whose ranges are all NaN is Reject::NaN
-// (single invalid beams are normal: no return). DEPTH: width/height == channel's, size exact
+// RANGES: count == channel count (any count when the channel's is 0), size exact; a frame whose
+// ranges are all NaN or inf is Reject::NaN (single invalid beams are normal: no return). DEPTH: width/height == channel's, size exact
 // for has_amplitude 0/1. ODOMETRY: size exact, pose finite, quaternion norm within 1e-3 of 1
 // (a non-unit quaternion is Reject::NaN too: a number out of its domain). A size field beyond
 // the channel's payload_max is Reject::Size before any byte is read; only `bytes` bytes are
