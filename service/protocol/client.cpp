@@ -39,7 +39,8 @@ int connectTo(const addrinfo& a, Clock::time_point deadline, int& err) {
   if (fd < 0) return err = errno, -1;
   if (::connect(fd, a.ai_addr, a.ai_addrlen) == 0) return fd;
   if (errno == EINPROGRESS) {
-    if (!waitFor(fd, POLLOUT, deadline)) err = ETIMEDOUT;
+    if (!waitFor(fd, POLLOUT, deadline))
+      err = ETIMEDOUT;
     else {
       socklen_t len = sizeof err;
       getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
@@ -85,7 +86,8 @@ void Client::sendBytes(std::span<const uint8_t> bytes) {
     if (n < 0 && errno == EINTR) continue;
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
       if (!waitFor(fd_, POLLOUT, deadline))
-        throw std::runtime_error("sending to " + where_ + ": timed out after " + std::to_string(opt_.timeout_ms) + " ms");
+        throw std::runtime_error("sending to " + where_ + ": timed out after " + std::to_string(opt_.timeout_ms) +
+                                 " ms");
       continue;
     }
     throw std::runtime_error("sending to " + where_ + ": " + std::strerror(errno));
@@ -101,8 +103,10 @@ std::optional<Frame> Client::receive(int timeout_ms) {
     if (r.kind == ParseResult::Kind::Error) throw std::runtime_error("reply from " + where_ + ": " + r.message());
     if (!waitFor(fd_, POLLIN, deadline)) return std::nullopt;
     const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
-    if (n > 0) parser_.push({buf, static_cast<size_t>(n)});
-    else if (n == 0) throw std::runtime_error("connection closed by " + where_);
+    if (n > 0)
+      parser_.push({buf, static_cast<size_t>(n)});
+    else if (n == 0)
+      throw std::runtime_error("connection closed by " + where_);
     else if (errno != EINTR && errno != EAGAIN && errno != EWOULDBLOCK)
       throw std::runtime_error("receiving from " + where_ + ": " + std::strerror(errno));
   }
@@ -113,8 +117,7 @@ Frame Client::call(uint32_t command, std::span<const uint32_t> data) {
   const auto deadline = Clock::now() + std::chrono::milliseconds(opt_.timeout_ms);
   for (;;) {
     auto f = receive(msLeft(deadline));
-    if (!f)
-      throw std::runtime_error("no reply from " + where_ + " within " + std::to_string(opt_.timeout_ms) + " ms");
+    if (!f) throw std::runtime_error("no reply from " + where_ + " within " + std::to_string(opt_.timeout_ms) + " ms");
     // A late reply to an earlier call that timed out is not this call's.
     if (f->command == replyId(command) || f->command == cmd::FRAME_ERROR) return std::move(*f);
   }

@@ -14,8 +14,8 @@
 namespace polyloc::protocol {
 
 struct ClientOptions {
-  int timeout_ms = 2000;                  // connect, and each call's wait for its reply
-  uint32_t max_frame_bytes = 16u << 20;   // replies can be large (scans)
+  int timeout_ms = 2000;                 // connect, and each call's wait for its reply
+  uint32_t max_frame_bytes = 16u << 20;  // replies can be large (scans)
 };
 
 class Client {

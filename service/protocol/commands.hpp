@@ -49,15 +49,15 @@ enum class Status : int32_t {
   CollisionAvoidanceOff = 4,  // the VRS (scan 0) while its publication is switched off
 
   UnknownCommand = -1,
-  BadSize = -2,         // the request's data size is wrong for its command
-  BadArgument = -3,     // a value out of range: scanner index, NaN in a pose, flag not 0/1
-  NotAvailable = -4,    // not yet: no pose before initialisation, no scan received yet
-  VersionMismatch = -5, // CHECKPROTOCOL: another major version
-  Internal = -6,        // the handler failed (logged on the server)
-  Busy = -7,            // too many clients; the connection is closed after this reply
+  BadSize = -2,          // the request's data size is wrong for its command
+  BadArgument = -3,      // a value out of range: scanner index, NaN in a pose, flag not 0/1
+  NotAvailable = -4,     // not yet: no pose before initialisation, no scan received yet
+  VersionMismatch = -5,  // CHECKPROTOCOL: another major version
+  Internal = -6,         // the handler failed (logged on the server)
+  Busy = -7,             // too many clients; the connection is closed after this reply
 
   // Frame errors, in a FRAME_ERROR reply.
-  BadMagic = -16,       // bytes that are not the start of a frame (skipped)
+  BadMagic = -16,  // bytes that are not the start of a frame (skipped)
   BadCrc = -17,
   BadFrameSize = -18,   // size field < 16 or not a multiple of 4
   FrameTooLarge = -19,  // size field over the server's limit
@@ -65,7 +65,7 @@ enum class Status : int32_t {
 };
 
 inline constexpr bool isError(Status s) { return static_cast<int32_t>(s) < 0; }
-const char* toString(Status s);          // "ok", "bad_crc", ...; "unknown_error"/"unknown_warning"
+const char* toString(Status s);             // "ok", "bad_crc", ...; "unknown_error"/"unknown_warning"
 const char* commandName(uint32_t command);  // "GETPOSE", ...; nullptr for an unknown id
 
 }  // namespace polyloc::protocol

@@ -56,7 +56,8 @@ Connection::Io Connection::flush(size_t& bytes) {
     return Io::Error;
   }
   // Keep the queue's memory bounded by what is unsent.
-  if (out_pos_ == out_.size()) out_.clear(), out_pos_ = 0;
+  if (out_pos_ == out_.size())
+    out_.clear(), out_pos_ = 0;
   else if (out_pos_ > (1u << 16) && out_pos_ > out_.size() / 2)
     out_.erase(out_.begin(), out_.begin() + static_cast<std::ptrdiff_t>(out_pos_)), out_pos_ = 0;
   return queued() > 0 ? Io::WouldBlock : Io::Data;

@@ -27,11 +27,12 @@ namespace polyloc::protocol {
 enum class PoseStatus : uint32_t { Initialising = 0, Tracking = 1, Uncertain = 2, Lost = 3 };
 
 struct PoseReport {
-  int64_t stamp_ns = 0;       // of the scan that ended the update
-  Pose pose;                  // map_T_base
-  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // x y z roll pitch yaw
+  int64_t stamp_ns = 0;  // of the scan that ended the update
+  Pose pose;             // map_T_base
+  // Order x y z roll pitch yaw, as in the shm pose channel.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   PoseStatus status = PoseStatus::Initialising;  // Initialising: no pose yet (NotAvailable)
-  double ess = 0;             // effective sample size of the particle set
+  double ess = 0;                                // effective sample size of the particle set
   uint32_t particles = 0;
 };
 
@@ -46,8 +47,8 @@ struct PoseSeed {
 // One entry of the scanner list. Entry 0 is the VRS (in base_link: identity mount), then the
 // raw scanners of the rig in configuration order.
 struct ScannerInfo {
-  std::string name;   // "vrs", "front", ...
-  Pose mount;         // base_T_sensor
+  std::string name;  // "vrs", "front", ...
+  Pose mount;        // base_T_sensor
   uint32_t beams = 0;
 };
 
@@ -62,8 +63,8 @@ struct PolarScan {
 struct Track {  // as polyloc_track in the shm interface
   uint32_t id = 0;
   bool confirmed = false;
-  double x = 0, y = 0, vx = 0, vy = 0;   // map frame, m and m/s
-  std::array<double, 4> covariance{};    // position, row-major 2x2
+  double x = 0, y = 0, vx = 0, vy = 0;  // map frame, m and m/s
+  std::array<double, 4> covariance{};   // position, row-major 2x2
 };
 
 struct TrackList {
@@ -72,16 +73,16 @@ struct TrackList {
 };
 
 struct InputStatus {
-  std::string name;        // channel: "scan/front", "odom", ...
-  double rate_hz = 0;      // frames taken per second, recently
+  std::string name;    // channel: "scan/front", "odom", ...
+  double rate_hz = 0;  // frames taken per second, recently
   uint64_t taken = 0;
-  uint64_t rejected = 0;   // for any reason (NaN, size, stale, future)
-  double silence_s = 0;    // since the last frame taken
-  bool silent = false;     // silence over the input timeout
+  uint64_t rejected = 0;  // for any reason (NaN, size, stale, future)
+  double silence_s = 0;   // since the last frame taken
+  bool silent = false;    // silence over the input timeout
 };
 
 struct HealthReport {
-  int64_t stamp_ns = 0;    // CLOCK_REALTIME when made
+  int64_t stamp_ns = 0;  // CLOCK_REALTIME when made
   double uptime_s = 0;
   PoseStatus pose_status = PoseStatus::Initialising;
   uint64_t cycles = 0, poses = 0, vrs = 0, tracks = 0;  // pipeline cycles, outputs published

@@ -3,6 +3,7 @@
 #include "protocol/connection.hpp"
 #include "protocol/dispatcher.hpp"
 #include "protocol/log_limit.hpp"
+#include "protocol/sockets.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -15,7 +16,6 @@
 #include <thread>
 #include <vector>
 
-#include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -28,39 +28,6 @@ namespace {
 
 using Clock = Connection::Clock;
 using Ms = std::chrono::milliseconds;
-
-std::string peerName(const sockaddr_storage& a, socklen_t len) {
-  char host[NI_MAXHOST], serv[NI_MAXSERV];
-  if (getnameinfo(reinterpret_cast<const sockaddr*>(&a), len, host, sizeof host, serv, sizeof serv,
-                  NI_NUMERICHOST | NI_NUMERICSERV) != 0)
-    return "?";
-  return a.ss_family == AF_INET6 ? fmt::format("[{}]:{}", host, serv) : fmt::format("{}:{}", host, serv);
-}
-
-// Listening socket on address:port, non-blocking; throws naming both and the reason.
-int listenOn(const std::string& address, uint16_t port, uint16_t& bound) {
-  const std::string where = fmt::format("{}:{}", address, port);
-  addrinfo hints{}, *res = nullptr;
-  hints.ai_family = AF_UNSPEC, hints.ai_socktype = SOCK_STREAM, hints.ai_flags = AI_PASSIVE | AI_NUMERICHOST;
-  if (const int e = getaddrinfo(address.c_str(), std::to_string(port).c_str(), &hints, &res); e != 0)
-    throw std::runtime_error(fmt::format("protocol server: bad bind address {}: {}", where, gai_strerror(e)));
-  const int fd = ::socket(res->ai_family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  const int one = 1;
-  if (fd >= 0) setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-  if (fd < 0 || ::bind(fd, res->ai_addr, res->ai_addrlen) != 0 || ::listen(fd, 64) != 0) {
-    const int e = errno;
-    if (fd >= 0) ::close(fd);
-    freeaddrinfo(res);
-    throw std::runtime_error(fmt::format("protocol server: cannot listen on {}: {}", where, std::strerror(e)));
-  }
-  freeaddrinfo(res);
-  sockaddr_storage a{};
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  bound = ntohs(a.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6*>(&a)->sin6_port
-                                        : reinterpret_cast<sockaddr_in*>(&a)->sin_port);
-  return fd;
-}
 
 // Reasons after which nothing more is sent: the connection goes at once.
 bool abrupt(CloseReason r) { return r == CloseReason::Slow || r == CloseReason::IoError || r == CloseReason::Stopped; }
@@ -91,8 +58,10 @@ struct Server::Impl {
     uint64_t suppressed = 0;
     if (!limiter.allow(kind, suppressed)) return;
     const std::string msg = fmt::format(f, std::forward<Args>(args)...);
-    if (suppressed) spdlog::warn("protocol: {} ({} similar messages suppressed)", msg, suppressed);
-    else spdlog::warn("protocol: {}", msg);
+    if (suppressed)
+      spdlog::warn("protocol: {} ({} similar messages suppressed)", msg, suppressed);
+    else
+      spdlog::warn("protocol: {}", msg);
   }
 
   void beginClose(Connection& c, CloseReason why, Clock::time_point now) {
@@ -113,15 +82,20 @@ struct Server::Impl {
   }
 
   void countStatus(Status s) {
-    if (s == Status::UnknownCommand) count(&ServerCounters::unknown_command);
-    else if (s == Status::BadSize || s == Status::BadArgument) count(&ServerCounters::bad_request);
-    else if (s == Status::NotAvailable) count(&ServerCounters::not_available);
-    else if (s == Status::Internal) count(&ServerCounters::handler_failures);
+    if (s == Status::UnknownCommand)
+      count(&ServerCounters::unknown_command);
+    else if (s == Status::BadSize || s == Status::BadArgument)
+      count(&ServerCounters::bad_request);
+    else if (s == Status::NotAvailable)
+      count(&ServerCounters::not_available);
+    else if (s == Status::Internal)
+      count(&ServerCounters::handler_failures);
   }
 
   void frameError(Connection& c, const ParseResult& r, Clock::time_point now) {
     static constexpr uint64_t ServerCounters::*fields[] = {nullptr, &ServerCounters::bad_magic,
-        &ServerCounters::bad_frame_size, &ServerCounters::frame_too_large, &ServerCounters::bad_crc};
+                                                           &ServerCounters::bad_frame_size,
+                                                           &ServerCounters::frame_too_large, &ServerCounters::bad_crc};
     count(fields[static_cast<int>(r.error)]);
     warn(toString(r.error), "{}: {}", c.peer(), r.message());
     const uint32_t detail = r.error == FrameError::BadCrc ? r.command : r.size;
@@ -141,8 +115,7 @@ struct Server::Impl {
       }
       count(&ServerCounters::frames);
       Dispatched d = dispatch(r.frame, handler);
-      if (!d.failure.empty())
-        warn("handler", "{}: {} failed: {}", c.peer(), commandName(r.frame.command), d.failure);
+      if (!d.failure.empty()) warn("handler", "{}: {} failed: {}", c.peer(), commandName(r.frame.command), d.failure);
       countStatus(replyStatus(d.reply));
       queue(c, d.reply, now);
     }
@@ -178,8 +151,8 @@ struct Server::Impl {
     if (c.closing != CloseReason::None) return;
     if (c.parser().midFrame() && now - c.frame_started > Ms(cfg.frame_timeout_ms)) {
       count(&ServerCounters::frame_timeouts);
-      warn("timeout", "{}: frame not completed within {} ms ({} bytes held), closing", c.peer(),
-           cfg.frame_timeout_ms, c.parser().buffered());
+      warn("timeout", "{}: frame not completed within {} ms ({} bytes held), closing", c.peer(), cfg.frame_timeout_ms,
+           c.parser().buffered());
       queue(c, frameErrorReply(Status::FrameTimeout), now);
       beginClose(c, CloseReason::FrameTimeout, now);
     } else if (cfg.idle_timeout_ms > 0 && now - c.last_rx > Ms(cfg.idle_timeout_ms)) {
@@ -201,10 +174,15 @@ struct Server::Impl {
   }
 
   void closed(const Connection& c) {
-    static constexpr uint64_t ServerCounters::*fields[] = {nullptr, &ServerCounters::closed_peer,
-        &ServerCounters::closed_frame_errors, &ServerCounters::closed_frame_timeout, &ServerCounters::closed_idle,
-        &ServerCounters::closed_slow, &ServerCounters::closed_io_error, &ServerCounters::closed_busy,
-        &ServerCounters::closed_stopped};
+    static constexpr uint64_t ServerCounters::*fields[] = {nullptr,
+                                                           &ServerCounters::closed_peer,
+                                                           &ServerCounters::closed_frame_errors,
+                                                           &ServerCounters::closed_frame_timeout,
+                                                           &ServerCounters::closed_idle,
+                                                           &ServerCounters::closed_slow,
+                                                           &ServerCounters::closed_io_error,
+                                                           &ServerCounters::closed_busy,
+                                                           &ServerCounters::closed_stopped};
     {
       std::lock_guard lock(mu);
       counters.*fields[static_cast<int>(c.closing)] += 1;
@@ -244,9 +222,12 @@ struct Server::Impl {
   int pollTimeoutMs(Clock::time_point now) const {
     Clock::time_point next = now + Ms(1000);
     for (const auto& c : conns) {
-      if (c->closing != CloseReason::None) next = std::min(next, c->close_by);
-      else if (c->parser().midFrame()) next = std::min(next, c->frame_started + Ms(cfg.frame_timeout_ms + 1));
-      else if (cfg.idle_timeout_ms > 0) next = std::min(next, c->last_rx + Ms(cfg.idle_timeout_ms + 1));
+      if (c->closing != CloseReason::None)
+        next = std::min(next, c->close_by);
+      else if (c->parser().midFrame())
+        next = std::min(next, c->frame_started + Ms(cfg.frame_timeout_ms + 1));
+      else if (cfg.idle_timeout_ms > 0)
+        next = std::min(next, c->last_rx + Ms(cfg.idle_timeout_ms + 1));
     }
     return static_cast<int>(std::clamp<int64_t>(std::chrono::ceil<Ms>(next - now).count(), 0, 1000));
   }
@@ -282,7 +263,8 @@ struct Server::Impl {
   }
 };
 
-Server::Server(ServerConfig config, ControlHandler& handler) : impl_(std::make_unique<Impl>(std::move(config), handler)) {}
+Server::Server(ServerConfig config, ControlHandler& handler)
+    : impl_(std::make_unique<Impl>(std::move(config), handler)) {}
 
 Server::~Server() { stop(); }
 

@@ -16,15 +16,15 @@
 namespace polyloc::protocol {
 
 struct ServerConfig {
-  std::string bind_address = "127.0.0.1";  // numeric IPv4/IPv6; loopback: this machine only
-  uint16_t port = 0;                        // 0: an ephemeral port, see Server::port()
-  int max_clients = 16;                     // more: a Busy reply, then closed
+  std::string bind_address = "127.0.0.1";            // numeric IPv4/IPv6; loopback: this machine only
+  uint16_t port = 0;                                 // 0: an ephemeral port, see Server::port()
+  int max_clients = 16;                              // more: a Busy reply, then closed
   uint32_t max_frame_bytes = kDefaultMaxFrameBytes;  // larger requests: FrameTooLarge
-  int frame_timeout_ms = 2000;   // a started frame not complete after this: FrameTimeout, closed
-  int idle_timeout_ms = 600000;  // nothing received for this long: closed; 0: never
-  size_t max_queued_bytes = 1 << 20;  // replies a client has not read; over it: closed (slow)
-  int max_frame_errors = 4;      // frame errors on one connection before it is closed
-  int close_linger_ms = 500;     // a closing connection waits this long for its peer to read
+  int frame_timeout_ms = 2000;                       // a started frame not complete after this: FrameTimeout, closed
+  int idle_timeout_ms = 600000;                      // nothing received for this long: closed; 0: never
+  size_t max_queued_bytes = 1 << 20;                 // replies a client has not read; over it: closed (slow)
+  int max_frame_errors = 4;                          // frame errors on one connection before it is closed
+  int close_linger_ms = 500;                         // a closing connection waits this long for its peer to read
 };
 
 // Totals since start(); a snapshot, safe to take from any thread.
@@ -36,8 +36,8 @@ struct ServerCounters {
   // Requests answered with an error status.
   uint64_t unknown_command = 0, bad_request = 0, not_available = 0, handler_failures = 0;
   // Connections closed, by reason.
-  uint64_t closed_peer = 0, closed_frame_errors = 0, closed_frame_timeout = 0, closed_idle = 0,
-           closed_slow = 0, closed_io_error = 0, closed_busy = 0, closed_stopped = 0;
+  uint64_t closed_peer = 0, closed_frame_errors = 0, closed_frame_timeout = 0, closed_idle = 0, closed_slow = 0,
+           closed_io_error = 0, closed_busy = 0, closed_stopped = 0;
 };
 
 class Server {

@@ -16,7 +16,7 @@ class FakeHandler : public ControlHandler {
  public:
   // What the fake answers; change under lock() from a test.
   PoseStatus pose_status = PoseStatus::Tracking;
-  uint32_t scan_beams = 181;   // beams of every scan (the slow-client test makes them large)
+  uint32_t scan_beams = 181;  // beams of every scan (the slow-client test makes them large)
   bool have_scans = true;
   bool throw_on_tracks = false;
   bool collision_avoidance = true;
@@ -43,7 +43,8 @@ class FakeHandler : public ControlHandler {
 
   Status setPose(const PoseSeed& seed) override {
     auto l = lock();
-    if (std::abs(seed.pose.x()) > 1000 || std::abs(seed.pose.y()) > 1000) return Status::BadArgument;  // "outside the map"
+    if (std::abs(seed.pose.x()) > 1000 || std::abs(seed.pose.y()) > 1000)
+      return Status::BadArgument;  // "outside the map"
     last_seed = seed;
     pose_status = PoseStatus::Uncertain;
     return Status::Ok;

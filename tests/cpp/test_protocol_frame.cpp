@@ -28,8 +28,7 @@ TEST(ProtocolFrame, Crc32KnownVectors) {
 }
 
 TEST(ProtocolFrame, PingBytesAsOnTheWire) {
-  EXPECT_EQ(encodeFrame(cmd::PING),
-            bytes({0x48, 0x45, 0x4c, 0x4f, 0x10, 0, 0, 0, 0, 0, 0, 0, 0x1f, 0xa8, 0xb3, 0x13}));
+  EXPECT_EQ(encodeFrame(cmd::PING), bytes({0x48, 0x45, 0x4c, 0x4f, 0x10, 0, 0, 0, 0, 0, 0, 0, 0x1f, 0xa8, 0xb3, 0x13}));
 }
 
 TEST(ProtocolFrame, GetPoseReplyBytes) {
@@ -39,9 +38,9 @@ TEST(ProtocolFrame, GetPoseReplyBytes) {
   p.stamp_ns = 1700000000123456789;
   const Frame reply = makeReply(cmd::GETPOSE, Status::Ok, encodePlanarPose(p));
   EXPECT_EQ(reply.command, 0x80020000u);
-  EXPECT_EQ(encodeFrame(reply),
-            bytes({0x48, 0x45, 0x4c, 0x4f, 0x28, 0, 0, 0, 0, 0, 0x02, 0x80, 0, 0, 0, 0, 0, 0, 0xa0, 0x3f, 0, 0, 0x20,
-                   0xc0, 0, 0, 0, 0x3f, 0x15, 0xcd, 0x85, 0x3d, 0xfe, 0x9c, 0x97, 0x17, 0x7d, 0x1e, 0x87, 0xa1}));
+  EXPECT_EQ(encodeFrame(reply), bytes({0x48, 0x45, 0x4c, 0x4f, 0x28, 0,    0,    0,    0,    0,    0x02, 0x80, 0, 0,
+                                       0,    0,    0,    0,    0xa0, 0x3f, 0,    0,    0x20, 0xc0, 0,    0,    0, 0x3f,
+                                       0x15, 0xcd, 0x85, 0x3d, 0xfe, 0x9c, 0x97, 0x17, 0x7d, 0x1e, 0x87, 0xa1}));
 }
 
 TEST(ProtocolFrame, SizeIsTheWholeFrameAndCrcCoversAllBeforeIt) {
@@ -85,7 +84,7 @@ TEST(ProtocolWords, ValuesAndStrings) {
   EXPECT_EQ(r.str(), "");
   EXPECT_TRUE(r.done());
   r.u32();
-  EXPECT_FALSE(r.ok());  // past the end
+  EXPECT_FALSE(r.ok());                        // past the end
   const std::vector<uint32_t> lying{1000, 0};  // a string longer than the words left
   WordReader l(lying);
   EXPECT_EQ(l.str(), "");
@@ -137,7 +136,8 @@ TEST(ProtocolMessages, ScanScannersTracksHealthRoundTrip) {
   EXPECT_EQ(ds->ranges[0], 2.0f);
   EXPECT_TRUE(std::isinf(ds->ranges[1]) && std::isinf(ds->ranges[2]));  // no return: +inf
 
-  const std::vector<ScannerInfo> sc{{"vrs", Pose(), 360}, {"front_laser", Pose::fromXYZRPY(0.3, 0, 0.2, 0, 0.1, 0), 541}};
+  const std::vector<ScannerInfo> sc{{"vrs", Pose(), 360},
+                                    {"front_laser", Pose::fromXYZRPY(0.3, 0, 0.2, 0, 0.1, 0), 541}};
   const auto dsc = decodeScanners(encodeScanners(sc));
   ASSERT_TRUE(dsc && dsc->size() == 2);
   EXPECT_EQ((*dsc)[1].name, "front_laser");

@@ -22,7 +22,8 @@ const std::vector<uint8_t> kGetPose = encodeFrame(cmd::GETPOSE);
 const std::vector<uint8_t> kScan = encodeFrame(cmd::GETSCANRADIALSCANNER, std::vector<uint32_t>{2});
 
 // Every event (frame or error) the parser gives for `stream` pushed in pieces of `chunk` bytes.
-std::vector<ParseResult> parseAll(const std::vector<uint8_t>& stream, size_t chunk, uint32_t max = kDefaultMaxFrameBytes) {
+std::vector<ParseResult> parseAll(const std::vector<uint8_t>& stream, size_t chunk,
+                                  uint32_t max = kDefaultMaxFrameBytes) {
   FrameParser p(max);
   std::vector<ParseResult> events;
   for (size_t i = 0; i < stream.size(); i += chunk) {
@@ -144,7 +145,8 @@ TEST(ProtocolParser, RandomChunkingGivesTheSameEvents) {
   crc.back() ^= 0xff;
   auto size = kGetPose;
   storeLE32(size.data() + 4, 15);
-  const auto stream = cat({kPing, {'H', 'E', 'L'}, kScan, crc, size, kPing, {1, 2, 3}, encodeFrame(cmd::PING, std::vector<uint32_t>(70))});
+  const auto stream = cat(
+      {kPing, {'H', 'E', 'L'}, kScan, crc, size, kPing, {1, 2, 3}, encodeFrame(cmd::PING, std::vector<uint32_t>(70))});
   const auto whole = summary(parseAll(stream, stream.size(), 256));
   EXPECT_EQ(whole, (std::vector<std::string>{"frame 0", "bad_magic", "frame 262146", "bad_crc", "bad_size", "frame 0",
                                              "bad_magic", "too_large"}));

@@ -11,8 +11,8 @@
 
 using namespace polyloc;
 using namespace polyloc::protocol;
-using polyloc::protocol::fake::TestServer;
 using polyloc::protocol::fake::eventually;
+using polyloc::protocol::fake::TestServer;
 
 namespace {
 

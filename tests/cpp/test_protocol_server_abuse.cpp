@@ -9,8 +9,8 @@
 #include <sys/socket.h>
 
 using namespace polyloc::protocol;
-using polyloc::protocol::fake::TestServer;
 using polyloc::protocol::fake::eventually;
+using polyloc::protocol::fake::TestServer;
 
 namespace {
 
@@ -212,7 +212,7 @@ TEST(ProtocolServerAbuse, StopWithClientsConnected) {
   EXPECT_EQ(s.counters().open, 0u);
   EXPECT_TRUE(a->waitClosed(1000));
   EXPECT_TRUE(b->waitClosed(1000));
-  s.stop();  // idempotent
+  s.stop();   // idempotent
   s.start();  // and it starts again
   Client c("127.0.0.1", s.port());
   expectPing(c);
