@@ -232,31 +232,40 @@ struct Server::Impl {
     return static_cast<int>(std::clamp<int64_t>(std::chrono::ceil<Ms>(next - now).count(), 0, 1000));
   }
 
+  // One poll() and what it reported: accept, read and answer, write, timers, closes.
+  void step(std::vector<pollfd>& fds) {
+    fds.assign({{wake_fd, POLLIN, 0}, {listen_fd, POLLIN, 0}});
+    for (const auto& c : conns) {
+      const short out = c->queued() > 0 ? POLLOUT : 0;
+      fds.push_back({c->fd(), static_cast<short>((c->peer_eof ? 0 : POLLIN) | out), 0});
+    }
+    if (::poll(fds.data(), fds.size(), pollTimeoutMs(Clock::now())) < 0 && errno != EINTR)
+      warn("poll", "poll failed: {}", std::strerror(errno));
+    if (stopping) return;
+    const Clock::time_point now = Clock::now();
+    if (fds[1].revents & POLLIN) acceptAll(now);
+    for (size_t i = 0; i + 2 < fds.size() && i < conns.size(); ++i) {
+      Connection& c = *conns[i];
+      const short ev = fds[i + 2].revents;
+      if (ev & (POLLIN | POLLHUP | POLLERR)) onReadable(c, now);
+      if (c.queued() > 0 && !abrupt(c.closing)) flush(c, now);
+    }
+    for (auto& c : conns) checkTimers(*c, now);
+    std::erase_if(conns, [&](const std::unique_ptr<Connection>& c) {
+      if (!finished(*c, now)) return false;
+      closed(*c);
+      return true;
+    });
+  }
+
   void loop() {
     std::vector<pollfd> fds;
     while (!stopping) {
-      fds.assign({{wake_fd, POLLIN, 0}, {listen_fd, POLLIN, 0}});
-      for (const auto& c : conns) {
-        const short out = c->queued() > 0 ? POLLOUT : 0;
-        fds.push_back({c->fd(), static_cast<short>((c->peer_eof ? 0 : POLLIN) | out), 0});
+      try {
+        step(fds);
+      } catch (const std::exception& e) {  // e.g. out of memory: the server goes on
+        warn("internal", "server loop: {}", e.what());
       }
-      if (::poll(fds.data(), fds.size(), pollTimeoutMs(Clock::now())) < 0 && errno != EINTR)
-        warn("poll", "poll failed: {}", std::strerror(errno));
-      if (stopping) break;
-      const Clock::time_point now = Clock::now();
-      if (fds[1].revents & POLLIN) acceptAll(now);
-      for (size_t i = 0; i + 2 < fds.size() && i < conns.size(); ++i) {
-        Connection& c = *conns[i];
-        const short ev = fds[i + 2].revents;
-        if (ev & (POLLIN | POLLHUP | POLLERR)) onReadable(c, now);
-        if (c.queued() > 0 && !abrupt(c.closing)) flush(c, now);
-      }
-      for (auto& c : conns) checkTimers(*c, now);
-      std::erase_if(conns, [&](const std::unique_ptr<Connection>& c) {
-        if (!finished(*c, now)) return false;
-        closed(*c);
-        return true;
-      });
     }
     for (auto& c : conns) c->closing = CloseReason::Stopped, closed(*c);
     conns.clear();
