@@ -29,6 +29,20 @@ namespace {
 using Clock = Connection::Clock;
 using Ms = std::chrono::milliseconds;
 
+// Settings that cannot work are refused at start, by name.
+void validate(const ServerConfig& c) {
+  const auto need = [](bool ok, const char* what, long long value) {
+    if (!ok) throw std::invalid_argument(fmt::format("protocol server: {} (it is {})", what, value));
+  };
+  need(c.max_clients >= 1, "max_clients must be at least 1", c.max_clients);
+  need(c.max_frame_bytes >= kMinFrameBytes, "max_frame_bytes must be at least 16", c.max_frame_bytes);
+  need(c.frame_timeout_ms > 0, "frame_timeout_ms must be positive", c.frame_timeout_ms);
+  need(c.idle_timeout_ms >= 0, "idle_timeout_ms must be 0 (never) or positive", c.idle_timeout_ms);
+  need(c.max_queued_bytes > 0, "max_queued_bytes must be positive", static_cast<long long>(c.max_queued_bytes));
+  need(c.max_frame_errors >= 1, "max_frame_errors must be at least 1", c.max_frame_errors);
+  need(c.close_linger_ms >= 0, "close_linger_ms must not be negative", c.close_linger_ms);
+}
+
 // Reasons after which nothing more is sent: the connection goes at once.
 bool abrupt(CloseReason r) { return r == CloseReason::Slow || r == CloseReason::IoError || r == CloseReason::Stopped; }
 
@@ -280,6 +294,7 @@ Server::~Server() { stop(); }
 void Server::start() {
   Impl& m = *impl_;
   if (m.running) throw std::logic_error("protocol server: already running");
+  validate(m.cfg);
   m.listen_fd = listenOn(m.cfg.bind_address, m.cfg.port, m.port);
   m.wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (m.wake_fd < 0) {

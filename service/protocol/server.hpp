@@ -47,8 +47,9 @@ class Server {
   Server(const Server&) = delete;
   Server& operator=(const Server&) = delete;
 
-  // Binds, listens and starts the server thread. Throws std::runtime_error naming the address
-  // and the reason when the socket cannot be bound, or std::logic_error when already running.
+  // Binds, listens and starts the server thread. Throws std::invalid_argument naming a setting
+  // that cannot work, std::runtime_error naming the address and the reason when the socket
+  // cannot be bound, or std::logic_error when already running.
   void start();
   // Closes every connection and joins the thread; from any thread, idempotent.
   void stop();

@@ -185,3 +185,17 @@ TEST(ProtocolServer, BindErrorsNameTheAddress) {
   EXPECT_THROW(third.start(), std::runtime_error);
   EXPECT_THROW(t.server.start(), std::logic_error);
 }
+
+TEST(ProtocolServer, SettingsThatCannotWorkAreRefusedByName) {
+  fake::FakeHandler h;
+  ServerConfig cfg;
+  cfg.max_clients = 0;
+  Server s(cfg, h);
+  try {
+    s.start();
+    FAIL() << "started with max_clients 0";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_clients"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(s.running());
+}
