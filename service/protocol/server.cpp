@@ -88,7 +88,7 @@ struct Server::Impl {
     c.queue(reply);
     count(&ServerCounters::replies);
     if (c.queued() <= cfg.max_queued_bytes) return;
-    flush(c, now);  // the socket may take some now
+    flush(c);  // the socket may take some now
     if (c.queued() > cfg.max_queued_bytes && c.closing == CloseReason::None) {
       warn("slow", "{}: {} reply bytes unread (limit {}), closing", c.peer(), c.queued(), cfg.max_queued_bytes);
       beginClose(c, CloseReason::Slow, now);
@@ -136,7 +136,7 @@ struct Server::Impl {
     if (completed || !was_mid) c.frame_started = now;
   }
 
-  void flush(Connection& c, Clock::time_point now) {
+  void flush(Connection& c) {
     size_t n = 0;
     const Connection::Io io = c.flush(n);
     count(&ServerCounters::bytes_out, n);
@@ -262,7 +262,7 @@ struct Server::Impl {
       Connection& c = *conns[i];
       const short ev = fds[i + 2].revents;
       if (ev & (POLLIN | POLLHUP | POLLERR)) onReadable(c, now);
-      if (c.queued() > 0 && !abrupt(c.closing)) flush(c, now);
+      if (c.queued() > 0 && !abrupt(c.closing)) flush(c);
     }
     for (auto& c : conns) checkTimers(*c, now);
     std::erase_if(conns, [&](const std::unique_ptr<Connection>& c) {

@@ -51,7 +51,8 @@ class Server {
   // that cannot work, std::runtime_error naming the address and the reason when the socket
   // cannot be bound, or std::logic_error when already running.
   void start();
-  // Closes every connection and joins the thread; from any thread, idempotent.
+  // Closes every connection and joins the thread; from any thread but the server's own (not
+  // from a handler call); idempotent.
   void stop();
   bool running() const;
   uint16_t port() const;  // the bound port (the ephemeral one when config.port was 0)
