@@ -4,6 +4,7 @@ BUILD_DIR ?= build
 JOBS      ?= $(shell nproc)
 
 # Debian 12 packages the build needs; `make deps` installs the missing ones, quietly.
+# clang and its runtime build the libFuzzer targets (fuzz/), which `make test` runs briefly.
 # node/npm (for the cross-check of our MCAP/CDR against the reference JS readers) are taken
 # from PATH when present, else from Debian.
 APT_PACKAGES := g++ cmake ninja-build pkg-config \
