@@ -16,6 +16,8 @@ void requireExists(const std::string& path, const char* what) {
   if (!std::filesystem::exists(path, ec)) raise(PyExc_FileNotFoundError, std::string(what) + ": no such file: '" + path + "'");
 }
 
+namespace {
+
 std::string shapeText(const pb::array& a) {
   std::ostringstream s;
   s << '(';
@@ -23,8 +25,6 @@ std::string shapeText(const pb::array& a) {
   s << (a.ndim() == 1 ? ",)" : ")");
   return s.str();
 }
-
-namespace {
 
 std::string wanted(const std::vector<pb::ssize_t>& shape) {
   const char* names[] = {"N", "M", "K", "L"};

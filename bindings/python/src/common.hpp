@@ -10,7 +10,6 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <mutex>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -33,13 +32,7 @@ void requireExists(const std::string& path, const char* what);
 F32Array floatArray(const pb::handle& obj, const char* name, std::vector<pb::ssize_t> shape);
 F64Array doubleArray(const pb::handle& obj, const char* name, std::vector<pb::ssize_t> shape);
 U8Array byteArray(const pb::handle& obj, const char* name, std::vector<pb::ssize_t> shape);
-std::string shapeText(const pb::array& a);
 
-// New arrays the C++ side writes into (no copy on the way out).
-template <class T>
-pb::array_t<T> newArray(std::vector<pb::ssize_t> shape) {
-  return pb::array_t<T>(shape);
-}
 // Copies of plain vectors as 1-D arrays.
 template <class T>
 pb::array_t<T> toArray(const std::vector<T>& v) {
