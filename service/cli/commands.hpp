@@ -18,5 +18,6 @@ void registerEval(CLI::App& app);         // polyloc eval global|kidnap|tracking
 void registerEvalTracking(CLI::App& eval); // polyloc eval tracking ...  (cmd_eval_tracking.cpp)
 void registerPerceive(CLI::App& app);     // polyloc perceive ...       (cmd_perceive.cpp)
 void registerEvalDepth(CLI::App& eval);   // polyloc eval depth ...     (cmd_eval_depth.cpp)
+void registerPlay(CLI::App& app);         // polyloc play ...           (cmd_play.cpp)
 
 }  // namespace polyloc::cli
