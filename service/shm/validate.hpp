@@ -17,8 +17,8 @@ const char* toString(Reject r);  // "ok", "size", "nan", "stale", "future"
 struct StampRules {
   int64_t now_ns = 0;          // CLOCK_REALTIME now
   int64_t last_ns = INT64_MIN; // stamp of the last frame taken on this channel
-  int64_t max_age_ns = 500'000'000;     // older than now - max_age: stale
-  int64_t max_future_ns = 100'000'000;  // later than now + max_future: future
+  int64_t max_age_ns = 500'000'000;     // older than now - max_age: stale (< 0: not checked)
+  int64_t max_future_ns = 100'000'000;  // later than now + max_future: future (< 0: not checked)
 };
 
 struct Validation {
@@ -30,8 +30,10 @@ struct Validation {
 // payload/bytes: the frame as read from the slot (bytes = slot size field, not trusted).
 // RANGES: count == channel count, size exact; a frame whose ranges are all NaN is Reject::NaN
 // (single invalid beams are normal: no return). DEPTH: width/height == channel's, size exact
-// for has_amplitude 0/1. ODOMETRY: size exact, pose finite, quaternion norm within 1e-3 of 1.
-// Then the stamp rules (a non-increasing stamp is Stale).
+// for has_amplitude 0/1. ODOMETRY: size exact, pose finite, quaternion norm within 1e-3 of 1
+// (a non-unit quaternion is Reject::NaN too: a number out of its domain). A size field beyond
+// the channel's payload_max is Reject::Size before any byte is read; only `bytes` bytes are
+// read otherwise. Then the stamp rules on the payload's stamp_ns (a non-increasing stamp is Stale).
 Validation validateInput(const polyloc_channel_desc& channel, uint64_t frame, const uint8_t* payload,
                          size_t bytes, const StampRules& rules);
 
