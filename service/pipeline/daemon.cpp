@@ -45,7 +45,7 @@ struct Daemon::Impl final : PipelineSink {
   tbb::task_arena arena;
   std::vector<polyloc_input_health> health;
   std::vector<int64_t> last_taken_mono;  // per input: CLOCK_MONOTONIC of the last frame taken
-  std::vector<bool> silent;
+  std::vector<bool> silent, announced;
   std::vector<uint64_t> logged;          // per input: rejections logged (rate limit)
   std::vector<Taken> pass;
   std::vector<double> cycle_ms;          // ring of the last 1000 cycles
@@ -71,8 +71,9 @@ struct Daemon::Impl final : PipelineSink {
     w_health = std::make_unique<shm::Writer>(seg, d.table_.health, true);
     const size_t n = d.table_.inputs.size();
     health.assign(n, polyloc_input_health{});
-    last_taken_mono.assign(n, nowNs(CLOCK_MONOTONIC));
-    silent.assign(n, false);
+    last_taken_mono.assign(n, 0);  // 0: nothing taken yet
+    silent.assign(n, true);
+    announced.assign(n, false);
     logged.assign(n, 0);
   }
 
@@ -127,16 +128,24 @@ struct Daemon::Impl final : PipelineSink {
     // One `now` for the whole pass: with clock: source, a backlog read in one pass must not
     // make the slower channels' frames stale against the faster ones' newest stamps.
     const int64_t now = clockNow();
+    const bool no_time_yet = d.cfg_.daemon.source_clock && source_now_ns == INT64_MIN;  // nothing to be stale against
+    // What every channel holds at one instant, and no more: a frame published while this pass
+    // reads is newer than all of them (writers publish in stamp order), so the sorted pass never
+    // puts a scan after odometry that came later than it.
+    std::vector<uint64_t> limit(readers.size());
+    for (size_t i = 0; i < readers.size(); ++i) limit[i] = readers[i].available();
     for (size_t i = 0; i < readers.size(); ++i) {
       std::vector<uint8_t> buf;
-      while (auto f = readers[i].next(buf)) {
+      for (uint64_t k = 0; k < limit[i]; ++k) {
+        auto f = readers[i].next(buf);
+        if (!f) break;
         any = true;
         shm::StampRules rules;
         rules.now_ns = now;
         rules.last_ns = health[i].last_stamp_ns ? health[i].last_stamp_ns : INT64_MIN;
         rules.max_age_ns = d.cfg_.daemon.max_age_ns;
         rules.max_future_ns = d.cfg_.daemon.source_clock ? INT64_MAX / 4 : d.cfg_.daemon.max_future_ns;
-        if (d.cfg_.daemon.source_clock && source_now_ns == INT64_MIN) rules.max_age_ns = INT64_MAX / 4;
+        if (no_time_yet) rules.max_age_ns = INT64_MAX / 4;
         const shm::Validation v = shm::validateInput(desc(int(i)), f->frame, buf.data(), buf.size(), rules);
         if (!v) {
           reject(int(i), f->frame, v);
@@ -249,11 +258,15 @@ struct Daemon::Impl final : PipelineSink {
     }
     h.inputs = uint32_t(health.size());
     for (size_t i = 0; i < health.size(); ++i) {
-      const bool now_silent = mono - last_taken_mono[i] > d.cfg_.daemon.input_timeout_ns;
-      if (now_silent && !silent[i])
+      // An input that never delivered is silent too (health), but only an input that stops is
+      // worth a warning: at start every input is still coming up.
+      const bool never = last_taken_mono[i] == 0;
+      const bool now_silent = never || mono - last_taken_mono[i] > d.cfg_.daemon.input_timeout_ns;
+      if (now_silent && !silent[i] && !never)
         spdlog::warn("input {} silent: no frame for {:.1f} s", desc(int(i)).name, double(mono - last_taken_mono[i]) * 1e-9);
       else if (!now_silent && silent[i])
-        spdlog::info("input {} back", desc(int(i)).name);
+        spdlog::info("input {}: {}", desc(int(i)).name, announced[i] ? "frames again" : "first frames");
+      if (!now_silent) announced[i] = true;
       silent[i] = now_silent;
       health[i].silent = now_silent;
       h.input[i] = health[i];

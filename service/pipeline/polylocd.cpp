@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
   app.add_flag("--check", check, "Validate the config and exit");
   app.set_version_flag("--version", "polylocd 0.1.0");
   CLI11_PARSE(app, argc, argv);
+  spdlog::set_default_logger(spdlog::stderr_color_mt("polylocd"));  // stdout stays for --check's answer
 
   try {
     polyloc::pipeline::ServiceConfig cfg = polyloc::pipeline::loadServiceConfig(config);
