@@ -4,6 +4,7 @@ BUILD_DIR ?= build
 JOBS      ?= $(shell nproc)
 
 # Debian 12 packages the build needs; `make deps` installs the missing ones, quietly.
+# clang and its runtime build the libFuzzer targets (fuzz/), which `make test` runs briefly.
 # node/npm (for the cross-check of our MCAP/CDR against the reference JS readers) are taken
 # from PATH when present, else from Debian.
 APT_PACKAGES := g++ cmake ninja-build pkg-config \
@@ -11,7 +12,8 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev \
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev \
   libfastcdr-dev libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev \
+  clang libclang-rt-14-dev
 
 .PHONY: run test deps configure build bench clean
 

@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/localize_report.hpp"
 #include "cli/localize_topics.hpp"
+#include "cli/parse_number.hpp"
 #include "viz/localize_plot.hpp"
 
 #include <polyloc/config/polyloc_config.hpp>
@@ -44,17 +45,7 @@ std::vector<double> numbers(const std::string& s, const char* option) {
   std::vector<double> v;
   std::stringstream ss(s);
   std::string tok;
-  while (std::getline(ss, tok, ',')) {
-    size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(tok, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || !std::isfinite(x)) throw std::runtime_error(fmt::format("{}: '{}' is not a number", option, tok));
-    v.push_back(x);
-  }
+  while (std::getline(ss, tok, ',')) v.push_back(parseNumber(tok, option));
   return v;
 }
 

@@ -19,5 +19,6 @@ void registerEvalTracking(CLI::App& eval); // polyloc eval tracking ...  (cmd_ev
 void registerPerceive(CLI::App& app);     // polyloc perceive ...       (cmd_perceive.cpp)
 void registerEvalDepth(CLI::App& eval);   // polyloc eval depth ...     (cmd_eval_depth.cpp)
 void registerPlay(CLI::App& app);         // polyloc play ...           (cmd_play.cpp)
+void registerCtl(CLI::App& app);          // polyloc ctl --port P CMD   (cmd_ctl.cpp)
 
 }  // namespace polyloc::cli

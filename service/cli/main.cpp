@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   polyloc::cli::registerEval(app);
   polyloc::cli::registerPerceive(app);
   polyloc::cli::registerPlay(app);
+  polyloc::cli::registerCtl(app);
 
   try {
     app.parse(argc, argv);
