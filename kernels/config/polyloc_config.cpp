@@ -44,6 +44,7 @@ PolylocConfig loadConfig(const std::string& path) {
   if (m.has("vrs")) c.vrs = parseVrsConfig(m.map("vrs"), c.robot.height);
   if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), &c.rig);
   if (m.has("depth_filter")) c.depth_filter = parseDepthFilterConfig(m.map("depth_filter"));
+  m.allow("polylocd");  // the daemon's own section (service/pipeline/daemon_config.hpp)
   m.finish();
   return c;
 }

@@ -34,7 +34,7 @@ VirtualRangeScanner::VirtualRangeScanner(const Rig& rig, const RobotSpec& robot,
       danger_(map, config.danger_labels, config.danger_zones, config.danger_resolution) {
   if (!(config_.resolution > 0) || !(config_.angle_max > config_.angle_min) || config_.angle_max - config_.angle_min > 2 * M_PI + 1e-9)
     throw std::invalid_argument("vrs: need resolution > 0 and angle_min < angle_max <= angle_min + 360 deg");
-  segments_ = size_t(std::ceil((config_.angle_max - config_.angle_min) / config_.resolution - 1e-9));
+  segments_ = config_.segments();
   for (const Sensor& s : rig_.sensors) beams_.push_back(s.beams()), modes_.push_back(defaultMode(s));
   for (const VrsSource& src : config_.sources) {
     auto it = std::find_if(rig_.sensors.begin(), rig_.sensors.end(), [&](const Sensor& s) { return s.name == src.sensor; });

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   polyloc::cli::registerLocalize(app);
   polyloc::cli::registerEval(app);
   polyloc::cli::registerPerceive(app);
+  polyloc::cli::registerPlay(app);
   polyloc::cli::registerCtl(app);
 
   try {

@@ -9,6 +9,7 @@
 //   vrs: {...}                        # polyloc/vrs/config_yaml.hpp, docs/vrs.md
 //   tracking: {...}                   # polyloc/tracking/config_yaml.hpp, docs/tracking.md
 //   depth_filter: {...}               # polyloc/depth/config_yaml.hpp, docs/depth.md
+//   polylocd: {...}                   # read by polylocd only (service/pipeline/daemon_config.hpp)
 #pragma once
 
 #include <polyloc/config/robot.hpp>

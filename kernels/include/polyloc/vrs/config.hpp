@@ -60,6 +60,7 @@ struct VrsConfig {
   double angle_min = -M_PI;       // base_link, first segment's lower edge
   double angle_max = M_PI;
   double resolution = M_PI / 360;  // segment width (0.5 deg)
+  size_t segments() const { return size_t(std::ceil((angle_max - angle_min) / resolution - 1e-9)); }
   double range_max = 8.0;         // m; segments with nothing nearer are +inf (REP-117)
   double floor_clearance = 0.06;  // m above base_link: lower points are floor
   // A beam pointing down that ends within this fraction of the range where it meets the floor

@@ -1,0 +1,138 @@
+// polyloc play: the stand-in for a robot. Feeds a recording (MCAP, ROS 2 bag, CARMEN) or a
+// scenario simulated live into a polylocd instance's input channels at real time (or --rate X),
+// restamped to the wall clock, and watches what comes back: pose (error against the ground
+// truth the source carries), latency from scan to pose, rates, and what polylocd dropped or
+// rejected. Status on stderr; a summary (--json) on stdout; --plot draws the trajectories.
+#include "cli/commands.hpp"
+#include "cli/localize_report.hpp"
+#include "cli/play_feed.hpp"
+#include "cli/play_source.hpp"
+#include "viz/localize_plot.hpp"
+
+#include <polyloc/eval/stats.hpp>
+#include <polyloc/eval/trajectory_metrics.hpp>
+#include <polyloc/map/load.hpp>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace polyloc::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct PlayArgs {
+  std::string input, scenario, shm, plot, map;
+  double rate = 1.0, duration = 0, wait = 10;
+  bool json = false, quiet = false, loop = false;
+};
+
+void runPlay(const PlayArgs& a) {
+  if (a.input.empty() == a.scenario.empty()) throw std::runtime_error("give --input RUN or --scenario FILE (one of them)");
+  if (!(a.rate > 0)) throw std::runtime_error("--rate must be > 0");
+  std::unique_ptr<PlaySource> src = a.input.empty() ? playScenario(a.scenario, a.duration) : playRecording(a.input);
+  PlayFeed feed(a.shm, a.wait);
+  if (a.rate != 1.0)
+    fmt::print(stderr, "polyloc play: rate {}: stamps keep the data's own pace; polylocd needs `clock: source` "
+                       "to accept them (docs/polylocd.md)\n", a.rate);
+  const bool tty = isatty(fileno(stderr));
+  const double span = a.duration > 0 ? std::min(a.duration, src->durationS()) : src->durationS();
+
+  if (a.loop && !(a.duration > 0)) throw std::runtime_error("--loop needs --duration");
+  RecordedMessage m;
+  std::optional<int64_t> first;
+  int64_t offset = 0, last = 0;  // --loop: each pass continues where the last one ended
+  uint64_t passes = 1;
+  const auto t0 = Clock::now();
+  auto last_status = t0;
+  for (;;) {
+    if (!src->next(m)) {
+      if (!a.loop || !first) break;
+      src = a.input.empty() ? playScenario(a.scenario, a.duration) : playRecording(a.input);
+      if (!src->next(m)) break;
+      offset = last + 100'000'000 - m.log_time_ns;  // 0.1 s after the last message
+      ++passes;
+    }
+    m.log_time_ns += offset;
+    last = m.log_time_ns;
+    if (!first) first = m.log_time_ns;
+    const double t = double(m.log_time_ns - *first) * 1e-9;
+    if (a.duration > 0 && t > a.duration) break;
+    const auto due = t0 + std::chrono::nanoseconds(int64_t(double(m.log_time_ns - *first) / a.rate));
+    // Poll what comes back while waiting for the message's time.
+    while (Clock::now() < due) {
+      feed.poll();
+      std::this_thread::sleep_until(std::min(due, Clock::now() + std::chrono::milliseconds(2)));
+    }
+    if (Clock::now() - due > std::chrono::milliseconds(100)) feed.countLate();
+    feed.send(m, offset, *first);
+    feed.poll();
+    if (!a.quiet && Clock::now() - last_status > std::chrono::milliseconds(tty ? 250 : 5000)) {
+      last_status = Clock::now();
+      fmt::print(stderr, "{}{}{}", tty ? "\r" : "", feed.statusLine(t, span), tty ? "\033[K" : "\n");
+      std::fflush(stderr);
+    }
+  }
+  feed.finish();  // the last poses and health
+  if (!a.quiet && tty) fmt::print(stderr, "\n");
+
+  const PlayResult r = feed.result();
+  std::optional<TrajectoryMetrics> metrics;
+  if (!r.truth.empty() && !r.estimates.empty()) metrics = evaluateTrajectory(r.estimates, GroundTruth(r.truth), {});
+  if (!a.plot.empty()) {
+    Mesh loaded;
+    const Mesh* map = src->map();
+    if (!map && !a.map.empty()) loaded = loadMesh(a.map), map = &loaded;
+    if (!map) throw std::runtime_error("--plot needs --map MESH when playing a recording");
+    viz::LocalizePlotData plot;
+    for (const auto& p : r.truth) plot.truth_path.emplace_back(float(p.pose.x()), float(p.pose.y()));
+    for (const auto& e : r.estimates) plot.estimate_path.emplace_back(float(e.pose.x()), float(e.pose.y()));
+    plot.title = fmt::format("polyloc play {} -> polylocd '{}': {} poses", src->describe(), a.shm, r.estimates.size());
+    if (metrics)
+      plot.legend = fmt::format("ATE {:.3f} m, p95 {:.3f} m, yaw RMSE {:.2f} deg; latency p50 {:.2f} ms, p99 {:.2f} ms",
+                                metrics->all.ate_rmse_m, metrics->all.p95_pos_err_m, metrics->all.yaw_rmse_deg,
+                                r.latency_p50_ms, r.latency_p99_ms);
+    viz::drawLocalization(*map, plot, a.plot);
+  }
+  nlohmann::json j = feed.resultJson();
+  j["source"] = src->describe();
+  j["rate"] = a.rate;
+  j["passes"] = passes;
+  j["wall_s"] = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (metrics) {
+    j["accuracy"] = summaryJson(metrics->all);
+    j["converged_after_s"] = metrics->converged_after_s ? num(*metrics->converged_after_s) : nlohmann::json(nullptr);
+  }
+  if (!a.plot.empty()) j["plot"] = a.plot;
+  if (a.json) fmt::print("{}\n", j.dump());
+  else
+    fmt::print("play: {} messages sent, {} poses back, latency p50 {:.2f} ms p99 {:.2f} ms, {} frames dropped, {} rejected{}\n",
+               r.sent, r.estimates.size(), r.latency_p50_ms, r.latency_p99_ms, r.dropped, r.rejected,
+               metrics ? fmt::format(", ATE {:.3f} m", metrics->all.ate_rmse_m) : std::string());
+}
+
+}  // namespace
+
+void registerPlay(CLI::App& app) {
+  auto a = std::make_shared<PlayArgs>();
+  CLI::App* c = app.add_subcommand("play", "Feed a recording or a live simulation into polylocd's shared memory, and watch the results");
+  c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag or CARMEN log")->check(CLI::ExistingPath);
+  c->add_option("--scenario", a->scenario, "Scenario (maps/scenarios/*.yaml), simulated live")->check(CLI::ExistingFile);
+  c->add_option("--shm", a->shm, "polylocd instance (segment /polyloc.NAME)")->required();
+  c->add_option("--rate", a->rate, "Playback speed (1: real time)")->capture_default_str();
+  c->add_option("--duration", a->duration, "s: stop after this much of the source (0: all)")->capture_default_str();
+  c->add_option("--wait", a->wait, "s to wait for polylocd's segment to appear")->capture_default_str();
+  c->add_option("--plot", a->plot, "PNG of map, ground truth and the poses polylocd published");
+  c->add_option("--map", a->map, "Mesh for --plot when playing a recording");
+  c->add_flag("--loop", a->loop, "Start the source again at its end, until --duration (soak tests)");
+  c->add_flag("--quiet", a->quiet, "No status line");
+  c->add_flag("--json", a->json, "Summary as one JSON object on stdout");
+  c->callback([a] { runPlay(*a); });
+}
+
+}  // namespace polyloc::cli

@@ -1,0 +1,169 @@
+#include "cli/play_feed.hpp"
+
+#include "pipeline/shm_payloads.hpp"
+
+#include <polyloc/eval/stats.hpp>
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <thread>
+
+namespace polyloc::cli {
+namespace {
+
+int64_t realtimeNs() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+void add(std::map<std::string, uint64_t>& to, const std::map<std::string, uint64_t>& from) {
+  for (const auto& [k, v] : from) to[k] += v;
+}
+
+}  // namespace
+
+PlayFeed::PlayFeed(const std::string& instance, double wait_s) : instance_(instance), wait_s_(wait_s) {
+  attach();
+  base_ns_ = realtimeNs();
+}
+
+PlayFeed::~PlayFeed() = default;
+
+void PlayFeed::attach() {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s_);
+  for (;;) {
+    try {
+      if (feed_) feed_->flush(), sent_before_ += feed_->sent(), add(per_channel_before_, feed_->perChannel());
+      feed_.reset();
+      pose_reader_.reset(), health_reader_.reset();
+      seg_.reset();
+      seg_.emplace(shm::Segment::attach(instance_));
+      break;
+    } catch (const shm::ShmError& e) {
+      if (std::chrono::steady_clock::now() > deadline) throw;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+  feed_ = std::make_unique<pipeline::MessageFeed>(*seg_);
+  if (const int p = seg_->find("pose"); p >= 0) pose_reader_ = std::make_unique<shm::Reader>(*seg_, p, shm::Reader::Start::Next);
+  if (const int p = seg_->find("health"); p >= 0) health_reader_ = std::make_unique<shm::Reader>(*seg_, p, shm::Reader::Start::Newest);
+}
+
+void PlayFeed::send(const RecordedMessage& m, int64_t offset_ns, int64_t first_log_ns) {
+  if (seg_->stale()) {
+    fmt::print(stderr, "\npolyloc play: polylocd '{}' restarted or stopped: re-attaching\n", instance_);
+    attach();
+    ++r_.reattached;
+  }
+  const int64_t shift = base_ns_ - first_log_ns + offset_ns;
+  if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
+    const int64_t t = msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns - offset_ns;
+    const auto& o = p->pose.orientation;
+    r_.truth.push_back({t + shift, Pose(Eigen::Quaterniond(o.w, o.x, o.y, o.z),
+                                        Eigen::Vector3d(p->pose.position.x, p->pose.position.y, p->pose.position.z))});
+    return;
+  }
+  if (feed_->send(m.topic, m.log_time_ns - offset_ns, m.message, shift) == pipeline::MessageFeed::Sent::NoChannel) ++r_.skipped[m.topic];
+}
+
+void PlayFeed::poll() {
+  if (pose_reader_)
+    while (auto f = pose_reader_->next(buf_)) {
+      if (buf_.size() < sizeof(polyloc_pose)) continue;
+      polyloc_pose p;
+      std::memcpy(&p, buf_.data(), sizeof p);
+      r_.estimates.push_back({p.stamp_ns, pipeline::posePose(p), static_cast<MclStatus>(std::min<uint32_t>(p.status, 3))});
+      r_.latency_ms.push_back(double(p.latency_ns) * 1e-6);
+    }
+  if (health_reader_)
+    if (auto f = health_reader_->newest(buf_); f && buf_.size() >= sizeof(polyloc_health)) {
+      health_.emplace();
+      std::memcpy(&*health_, buf_.data(), sizeof(polyloc_health));
+    }
+}
+
+void PlayFeed::finish() {
+  feed_->flush();
+  // The last frames are still in the pipeline: give polylocd a moment, and its health a beat.
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
+  while (std::chrono::steady_clock::now() < end) {
+    poll();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (pose_reader_) r_.poses_missed = pose_reader_->overruns();
+}
+
+std::string PlayFeed::statusLine(double t_s, double span_s) const {
+  std::string s = fmt::format("play {:5.1f}/{:.0f} s  sent {}", t_s, span_s, sent_before_ + (feed_ ? feed_->sent() : 0));
+  if (!r_.estimates.empty()) {
+    const EstimatedPose& e = r_.estimates.back();
+    s += fmt::format("  pose ({:.2f}, {:.2f}, {:.0f} deg) {}", e.pose.x(), e.pose.y(), rad2deg(e.pose.yaw()), toString(e.status));
+    auto it = std::lower_bound(r_.truth.begin(), r_.truth.end(), e.stamp_ns,
+                               [](const StampedPose& p, int64_t t) { return p.stamp_ns < t; });
+    if (it != r_.truth.end()) {
+      const double dxy = (it->pose.translation().head<2>() - e.pose.translation().head<2>()).norm();
+      double dyaw = std::remainder(e.pose.yaw() - it->pose.yaw(), 2 * M_PI);
+      s += fmt::format("  err {:.3f} m {:.1f} deg", dxy, rad2deg(std::abs(dyaw)));
+    }
+    s += fmt::format("  {:.1f} poses/s  latency {:.1f} ms", t_s > 0 ? double(r_.estimates.size()) / t_s : 0.0, r_.latency_ms.back());
+  } else {
+    s += "  (no pose yet)";
+  }
+  if (health_) {
+    uint64_t dropped = 0, rejected = 0;
+    for (uint32_t i = 0; i < health_->inputs && i < POLYLOC_MAX_INPUTS; ++i) {
+      const auto& h = health_->input[i];
+      dropped += h.overruns, rejected += h.rejected_nan + h.rejected_size + h.rejected_stale + h.rejected_future;
+    }
+    s += fmt::format("  dropped {} rejected {}{}", dropped, rejected, health_->flags & 1 ? "  INPUT SILENT" : "");
+  }
+  return s;
+}
+
+PlayResult PlayFeed::result() const {
+  PlayResult r = r_;
+  r.sent = sent_before_ + (feed_ ? feed_->sent() : 0);
+  r.per_channel = per_channel_before_;
+  if (feed_) add(r.per_channel, feed_->perChannel());
+  if (!r.latency_ms.empty()) {
+    r.latency_p50_ms = percentile(r.latency_ms, 50);
+    r.latency_p99_ms = percentile(r.latency_ms, 99);
+    r.latency_max_ms = *std::max_element(r.latency_ms.begin(), r.latency_ms.end());
+  }
+  if (health_)
+    for (uint32_t i = 0; i < health_->inputs && i < POLYLOC_MAX_INPUTS; ++i) {
+      const auto& h = health_->input[i];
+      r.dropped += h.overruns, r.rejected += h.rejected_nan + h.rejected_size + h.rejected_stale + h.rejected_future;
+    }
+  return r;
+}
+
+nlohmann::json PlayFeed::resultJson() const {
+  const PlayResult r = result();
+  nlohmann::json j = {{"instance", instance_}, {"sent", r.sent}, {"late", r.late}, {"reattached", r.reattached},
+                      {"per_channel", r.per_channel}, {"skipped_topics", r.skipped}, {"poses", r.estimates.size()},
+                      {"latency_ms", {{"p50", r.latency_p50_ms}, {"p99", r.latency_p99_ms}, {"max", r.latency_max_ms}}},
+                      {"dropped", r.dropped}, {"rejected", r.rejected}, {"poses_missed", r.poses_missed}};
+  if (health_) {
+    nlohmann::json inputs = nlohmann::json::object();
+    for (uint32_t i = 0; i < health_->inputs && i < POLYLOC_MAX_INPUTS; ++i) {
+      const auto& h = health_->input[i];
+      // Inputs are the first channels of the table, in order (docs/interface.md).
+      inputs[seg_->channel(int(i)).name] = {{"taken", h.taken}, {"overruns", h.overruns}, {"nan", h.rejected_nan},
+                                            {"size", h.rejected_size}, {"stale", h.rejected_stale},
+                                            {"future", h.rejected_future}, {"silent", bool(h.silent)}};
+    }
+    j["polylocd"] = {{"cycles", health_->cycles}, {"poses", health_->poses}, {"vrs", health_->vrs},
+                     {"tracks", health_->tracks}, {"cycle_p50_ms", health_->cycle_p50_ms},
+                     {"cycle_p99_ms", health_->cycle_p99_ms}, {"inputs", inputs}};
+  }
+  return j;
+}
+
+}  // namespace polyloc::cli

@@ -1,0 +1,67 @@
+// The shared-memory side of `polyloc play`: the recorded messages into polylocd's input channels
+// (pipeline/message_feed.hpp), readers for pose and health, and what they saw. Stamps are moved
+// onto the wall clock: stamp - first log time + CLOCK_REALTIME at the start. Re-attaches when
+// polylocd restarts (generation changes).
+#pragma once
+
+#include "pipeline/message_feed.hpp"
+#include "shm/channel.hpp"
+
+#include <polyloc/eval/trajectory_metrics.hpp>
+#include <polyloc/io/recording.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace polyloc::cli {
+
+struct PlayResult {
+  uint64_t sent = 0, late = 0, reattached = 0;
+  std::map<std::string, uint64_t> per_channel;   // frames written
+  std::map<std::string, uint64_t> skipped;       // topic -> messages with no channel
+  std::vector<EstimatedPose> estimates;          // poses polylocd published (stamps as sent)
+  std::vector<StampedPose> truth;                // /ground_truth of the source, restamped
+  std::vector<double> latency_ms;                // per pose: scan publish -> pose publish
+  double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
+  uint64_t dropped = 0;   // polylocd: frames overwritten before it read them (health overruns)
+  uint64_t rejected = 0;  // polylocd: frames it rejected (health)
+  uint64_t poses_missed = 0;  // poses this reader missed (overruns of its pose reader)
+};
+
+class PlayFeed {
+ public:
+  // Waits up to wait_s for the segment /polyloc.<instance> to be ready; throws shm::ShmError.
+  PlayFeed(const std::string& instance, double wait_s);
+  ~PlayFeed();
+
+  // m.log_time_ns already moved by offset_ns (--loop); header stamps are moved here the same way.
+  void send(const RecordedMessage& m, int64_t offset_ns, int64_t first_log_ns);
+  void poll();         // reads new poses and health
+  void finish();       // flushes pending depth frames, waits briefly for the last outputs
+  void countLate() { ++r_.late; }
+  std::string statusLine(double t_s, double span_s) const;
+  PlayResult result() const;
+  nlohmann::json resultJson() const;
+
+ private:
+  void attach();
+
+  std::string instance_;
+  double wait_s_;
+  std::optional<shm::Segment> seg_;
+  std::unique_ptr<pipeline::MessageFeed> feed_;
+  std::unique_ptr<shm::Reader> pose_reader_, health_reader_;
+  uint64_t sent_before_ = 0;  // by the feeds of earlier attachments
+  std::map<std::string, uint64_t> per_channel_before_;
+  int64_t base_ns_ = 0;
+  std::optional<polyloc_health> health_;
+  PlayResult r_;
+  std::vector<uint8_t> buf_;
+};
+
+}  // namespace polyloc::cli

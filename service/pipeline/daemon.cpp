@@ -1,0 +1,327 @@
+#include "pipeline/daemon.hpp"
+
+#include "pipeline/pipeline.hpp"
+#include "pipeline/shm_payloads.hpp"
+#include "shm/channel.hpp"
+#include "shm/validate.hpp"
+
+#include <polyloc/map/load.hpp>
+#include <polyloc/raycast/embree.hpp>
+
+#include <spdlog/spdlog.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+
+namespace polyloc::pipeline {
+namespace {
+
+int64_t nowNs(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+// A frame read in one pass over the inputs, before it is dispatched in stamp order.
+struct Taken {
+  int64_t stamp_ns = 0, publish_ns = 0;
+  int input = 0;  // position in ChannelTable::inputs
+  std::vector<uint8_t> payload;
+};
+
+}  // namespace
+
+struct Daemon::Impl final : PipelineSink {
+  Daemon& d;
+  Mesh map;
+  std::unique_ptr<EmbreeCaster> caster;
+  std::unique_ptr<Pipeline> pipe;
+  shm::Segment seg;
+  std::vector<shm::Reader> readers;  // per input, in ChannelTable::inputs order
+  std::unique_ptr<shm::Writer> w_pose, w_vrs, w_tracks, w_health;
+  tbb::task_arena arena;
+  std::vector<polyloc_input_health> health;
+  std::vector<int64_t> last_taken_mono;  // per input: CLOCK_MONOTONIC of the last frame taken
+  std::vector<bool> silent, announced;
+  std::vector<uint64_t> logged;          // per input: rejections logged (rate limit)
+  std::vector<Taken> pass;
+  std::vector<double> cycle_ms;          // ring of the last 1000 cycles
+  size_t cycle_next = 0;
+  uint64_t cycles = 0;
+  int64_t current_publish_ns = 0;        // of the input frame being processed (latency)
+  int64_t source_now_ns = INT64_MIN;     // newest stamp taken (clock: source)
+  int64_t last_health_ns = 0;
+  std::vector<uint8_t> out;              // payload being built
+
+  Impl(Daemon& daemon, shm::Segment s)
+      : d(daemon), seg(std::move(s)), arena(d.cfg_.daemon.threads > 0 ? d.cfg_.daemon.threads : tbb::task_arena::automatic) {
+    const PolylocConfig& pc = d.cfg_.polyloc;
+    map = loadMesh(pc.map.file, pc.map.load);
+    EmbreeOptions eo;
+    eo.threads = d.cfg_.daemon.threads;
+    caster = std::make_unique<EmbreeCaster>(map, eo);
+    pipe = std::make_unique<Pipeline>(pc, map, *caster);
+    for (int ch : d.table_.inputs) readers.emplace_back(seg, ch, shm::Reader::Start::Next);
+    w_pose = std::make_unique<shm::Writer>(seg, d.table_.pose, true);
+    w_vrs = std::make_unique<shm::Writer>(seg, d.table_.vrs, true);
+    w_tracks = std::make_unique<shm::Writer>(seg, d.table_.tracks, true);
+    w_health = std::make_unique<shm::Writer>(seg, d.table_.health, true);
+    const size_t n = d.table_.inputs.size();
+    health.assign(n, polyloc_input_health{});
+    last_taken_mono.assign(n, 0);  // 0: nothing taken yet
+    silent.assign(n, true);
+    announced.assign(n, false);
+    logged.assign(n, 0);
+  }
+
+  const polyloc_channel_desc& desc(int input) const { return seg.channel(d.table_.inputs[size_t(input)]); }
+
+  // --- outputs (PipelineSink) ---
+  void onPose(const MclEstimate& e, const Pose& map_T_odom) override {
+    const polyloc_pose p = posePayload(e, map_T_odom, nowNs(CLOCK_MONOTONIC) - current_publish_ns);
+    w_pose->write(&p, sizeof p, e.stamp_ns);
+    d.live_->update([&](LiveState::Snapshot& s) { s.pose = p; });
+  }
+  void onVrs(const VirtualScan& v) override {
+    const bool enabled = d.live_->collisionAvoidance();
+    const uint32_t bytes = vrsPayload(v, enabled, out);
+    w_vrs->write(out.data(), bytes, v.stamp_ns);
+    d.live_->update([&](LiveState::Snapshot& s) {
+      s.vrs = LiveScan{v.stamp_ns, v.angle_min + 0.5f * v.angle_increment, v.angle_increment, v.range_min, v.range_max, v.ranges};
+    });
+  }
+  void onTracks(int64_t stamp_ns, const Tracks& t) override {
+    const polyloc_tracks p = tracksPayload(stamp_ns, t);
+    w_tracks->write(&p, sizeof p, stamp_ns);
+    d.live_->update([&](LiveState::Snapshot& s) {
+      s.tracks.assign(p.tracks, p.tracks + p.count);
+      s.tracks_stamp_ns = stamp_ns;
+    });
+  }
+
+  // --- inputs ---
+  void reject(int input, uint64_t frame, const shm::Validation& v) {
+    polyloc_input_health& h = health[size_t(input)];
+    switch (v.reject) {
+      case shm::Reject::Size: ++h.rejected_size; break;
+      case shm::Reject::NaN: ++h.rejected_nan; break;
+      case shm::Reject::Stale: ++h.rejected_stale; break;
+      case shm::Reject::Future: ++h.rejected_future; break;
+      case shm::Reject::None: return;
+    }
+    // The first few of each input, then every 1000th: a flood of bad frames must not flood the log.
+    const uint64_t k = logged[size_t(input)]++;
+    if (k < 5 || k % 1000 == 0) spdlog::warn("rejected ({}): {}{}", shm::toString(v.reject), v.why, k >= 5 ? " (and more)" : "");
+  }
+
+  int64_t clockNow() const {
+    return d.cfg_.daemon.source_clock ? (source_now_ns == INT64_MIN ? nowNs(CLOCK_REALTIME) : source_now_ns) : nowNs(CLOCK_REALTIME);
+  }
+
+  // Reads every input channel dry; true when something was read.
+  bool readInputs() {
+    pass.clear();
+    bool any = false;
+    // One `now` for the whole pass: with clock: source, a backlog read in one pass must not
+    // make the slower channels' frames stale against the faster ones' newest stamps.
+    const int64_t now = clockNow();
+    const bool no_time_yet = d.cfg_.daemon.source_clock && source_now_ns == INT64_MIN;  // nothing to be stale against
+    // What every channel holds at one instant, and no more: a frame published while this pass
+    // reads is newer than all of them (writers publish in stamp order), so the sorted pass never
+    // puts a scan after odometry that came later than it.
+    std::vector<uint64_t> limit(readers.size());
+    for (size_t i = 0; i < readers.size(); ++i) limit[i] = readers[i].available();
+    for (size_t i = 0; i < readers.size(); ++i) {
+      std::vector<uint8_t> buf;
+      for (uint64_t k = 0; k < limit[i]; ++k) {
+        auto f = readers[i].next(buf);
+        if (!f) break;
+        any = true;
+        shm::StampRules rules;
+        rules.now_ns = now;
+        rules.last_ns = health[i].last_stamp_ns ? health[i].last_stamp_ns : INT64_MIN;
+        rules.max_age_ns = d.cfg_.daemon.max_age_ns;
+        rules.max_future_ns = d.cfg_.daemon.source_clock ? INT64_MAX / 4 : d.cfg_.daemon.max_future_ns;
+        if (no_time_yet) rules.max_age_ns = INT64_MAX / 4;
+        const shm::Validation v = shm::validateInput(desc(int(i)), f->frame, buf.data(), buf.size(), rules);
+        if (!v) {
+          reject(int(i), f->frame, v);
+          continue;
+        }
+        int64_t stamp = 0;
+        std::memcpy(&stamp, buf.data(), sizeof stamp);  // every input payload starts with stamp_ns
+        health[i].last_stamp_ns = stamp;
+        last_taken_mono[i] = nowNs(CLOCK_MONOTONIC);
+        source_now_ns = std::max(source_now_ns, stamp);
+        pass.push_back({stamp, f->publish_ns, int(i), std::move(buf)});
+        buf = {};
+      }
+      health[i].overruns = readers[i].overruns();
+    }
+    // Stamp order across channels, odometry first at equal stamps: the localiser predicts
+    // with the odometry up to a scan before it weighs the scan.
+    std::stable_sort(pass.begin(), pass.end(), [&](const Taken& a, const Taken& b) {
+      if (a.stamp_ns != b.stamp_ns) return a.stamp_ns < b.stamp_ns;
+      return (d.table_.inputs[size_t(a.input)] == d.table_.odom) > (d.table_.inputs[size_t(b.input)] == d.table_.odom);
+    });
+    return any;
+  }
+
+  void initialise(int64_t stamp) {
+    const auto& init = d.cfg_.daemon.init;
+    if (init) {
+      Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
+      cov.diagonal() << init->sigma_xy * init->sigma_xy, init->sigma_xy * init->sigma_xy, 0.02 * 0.02, 3e-4, 3e-4,
+          init->sigma_yaw * init->sigma_yaw;
+      pipe->initPose(init->pose, cov, stamp);
+      spdlog::info("localisation starts at ({:.3f}, {:.3f}, yaw {:.1f} deg)", init->pose.x(), init->pose.y(), rad2deg(init->pose.yaw()));
+    } else {
+      pipe->initGlobal(stamp);
+      spdlog::info("global localisation ({} particles)", d.cfg_.polyloc.mcl.global_particles);
+    }
+  }
+
+  void takeRequests(int64_t stamp) {
+    if (auto r = d.live_->takePoseRequest()) {
+      pipe->initPose(r->pose, r->covariance, stamp);
+      spdlog::info("pose set by the control endpoint: ({:.3f}, {:.3f}, yaw {:.1f} deg)", r->pose.x(), r->pose.y(), rad2deg(r->pose.yaw()));
+    }
+    if (d.live_->takeGlobalRequest()) {
+      pipe->initGlobal(stamp);
+      spdlog::info("global localisation requested by the control endpoint");
+    }
+    pipe->setVrsEnabled(d.live_->collisionAvoidance());
+  }
+
+  void dispatch(const Taken& t) {
+    const polyloc_channel_desc& c = desc(t.input);
+    current_publish_ns = t.publish_ns;
+    if (!pipe->initialised()) initialise(t.stamp_ns);
+    takeRequests(t.stamp_ns);
+    bool ok = true;
+    switch (c.kind) {
+      case POLYLOC_KIND_ODOMETRY: {
+        polyloc_odometry o;
+        std::memcpy(&o, t.payload.data(), sizeof o);
+        pipe->addOdometry(t.stamp_ns, odometryPose(o));
+        break;
+      }
+      case POLYLOC_KIND_RANGES: {
+        const float* r = reinterpret_cast<const float*>(t.payload.data() + offsetof(polyloc_ranges, ranges));
+        ok = pipe->addRanges(size_t(c.sensor), t.stamp_ns, {r, c.count}, *this);
+        if (ok && std::holds_alternative<PlanarScannerSpec>(d.cfg_.polyloc.rig.sensors[size_t(c.sensor)].spec))
+          keepScan(size_t(c.sensor), t.stamp_ns, {r, c.count});
+        break;
+      }
+      case POLYLOC_KIND_DEPTH: {
+        polyloc_depth h;
+        std::memcpy(&h, t.payload.data(), sizeof h);
+        const float* depth = reinterpret_cast<const float*>(t.payload.data() + offsetof(polyloc_depth, data));
+        ok = pipe->addDepth(size_t(c.sensor), t.stamp_ns, depth, h.has_amplitude ? depth + size_t(c.width) * c.height : nullptr, *this);
+        break;
+      }
+      default: ok = false;
+    }
+    if (ok) ++health[size_t(t.input)].taken;
+    else ++health[size_t(t.input)].rejected_size;
+  }
+
+  // Raw scans of the planar scanners for GETSCANRADIALSCANNER (copied under the lock).
+  void keepScan(size_t sensor, int64_t stamp, std::span<const float> r) {
+    const auto& spec = std::get<PlanarScannerSpec>(d.cfg_.polyloc.rig.sensors[sensor].spec);
+    d.live_->update([&](LiveState::Snapshot& s) {
+      auto& ls = s.scans[sensor];
+      if (!ls) ls.emplace();
+      ls->stamp_ns = stamp;
+      ls->angle_min = float(spec.angleMin()), ls->angle_increment = float(spec.resolution_rad);
+      ls->range_min = float(spec.range_min), ls->range_max = float(spec.range_max);
+      ls->ranges.assign(r.begin(), r.end());
+    });
+  }
+
+  void publishHealth(bool force) {
+    const int64_t mono = nowNs(CLOCK_MONOTONIC);
+    if (!force && mono - last_health_ns < int64_t(1e9 / d.cfg_.daemon.health_rate_hz)) return;
+    last_health_ns = mono;
+    polyloc_health h{};
+    h.stamp_ns = nowNs(CLOCK_REALTIME);
+    h.cycles = cycles;
+    const PipelineCounters& pc = pipe->counters();
+    h.poses = pc.poses, h.vrs = pc.vrs, h.tracks = pc.tracks;
+    std::vector<double> c(cycle_ms.begin(), cycle_ms.end());
+    if (!c.empty()) {
+      std::sort(c.begin(), c.end());
+      h.cycle_p50_ms = c[c.size() / 2], h.cycle_p99_ms = c[std::min(c.size() - 1, c.size() * 99 / 100)];
+    }
+    h.inputs = uint32_t(health.size());
+    for (size_t i = 0; i < health.size(); ++i) {
+      // An input that never delivered is silent too (health), but only an input that stops is
+      // worth a warning: at start every input is still coming up.
+      const bool never = last_taken_mono[i] == 0;
+      const bool now_silent = never || mono - last_taken_mono[i] > d.cfg_.daemon.input_timeout_ns;
+      if (now_silent && !silent[i] && !never)
+        spdlog::warn("input {} silent: no frame for {:.1f} s", desc(int(i)).name, double(mono - last_taken_mono[i]) * 1e-9);
+      else if (!now_silent && silent[i])
+        spdlog::info("input {}: {}", desc(int(i)).name, announced[i] ? "frames again" : "first frames");
+      if (!now_silent) announced[i] = true;
+      silent[i] = now_silent;
+      health[i].silent = now_silent;
+      h.input[i] = health[i];
+      if (now_silent) h.flags |= 1u;
+    }
+    if (pipe->initialised() && pipe->localizer().estimate().status == MclStatus::Lost) h.flags |= 2u;
+    w_health->write(&h, sizeof h, h.stamp_ns);
+    d.live_->update([&](LiveState::Snapshot& s) { s.health = h; });
+  }
+
+  void cycle() {
+    const auto t0 = std::chrono::steady_clock::now();
+    arena.execute([&] {
+      for (const Taken& t : pass) dispatch(t);
+    });
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (cycle_ms.size() < 1000) cycle_ms.push_back(ms);
+    else cycle_ms[cycle_next++ % 1000] = ms;
+    ++cycles;
+  }
+};
+
+Daemon::Daemon(ServiceConfig config) : cfg_(std::move(config)) {
+  table_ = channelTable(cfg_.polyloc.rig, cfg_.polyloc.vrs, cfg_.daemon.slots);
+  live_ = std::make_unique<LiveState>(cfg_.polyloc.rig.size());
+  live_->setCollisionAvoidance(true);
+  shm::Segment seg = shm::Segment::create(cfg_.daemon.instance, table_.specs);
+  spdlog::info("segment {} generation {}: {} channels, {:.1f} MiB", shm::segmentName(cfg_.daemon.instance),
+               seg.generation(), table_.specs.size(), double(seg.size()) / (1 << 20));
+  impl_ = std::make_unique<Impl>(*this, std::move(seg));
+}
+
+Daemon::~Daemon() = default;
+
+void Daemon::run(const std::atomic<bool>& stop) {
+  Impl& m = *impl_;
+  m.seg.ready();
+  spdlog::info("ready: rig '{}' ({} sensors), map {} ({} triangles)", cfg_.polyloc.rig.name, cfg_.polyloc.rig.size(),
+               cfg_.polyloc.map.file, m.map.numTriangles());
+  while (!stop.load(std::memory_order_relaxed)) {
+    const uint32_t seen = __atomic_load_n(&m.seg.header().doorbell, __ATOMIC_ACQUIRE);
+    if (m.readInputs()) {
+      m.cycle();
+    } else {
+      m.takeRequests(m.source_now_ns == INT64_MIN ? nowNs(CLOCK_REALTIME) : m.source_now_ns);
+      shm::waitDoorbell(m.seg, seen, 20'000'000);  // 20 ms: health and silence checks go on
+    }
+    m.publishHealth(false);
+  }
+  m.publishHealth(true);
+  // The segment stays (STOPPED) under its name: the next start reads its generation and bumps
+  // it, which is how clients still attached tell a restart.
+  m.seg.stop();
+  spdlog::info("stopped after {} cycles: {} poses, {} VRS, {} track sets", m.cycles, m.pipe->counters().poses,
+               m.pipe->counters().vrs, m.pipe->counters().tracks);
+}
+
+}  // namespace polyloc::pipeline

@@ -1,0 +1,38 @@
+// polylocd's work: the segment with its channel table, one thread that reads every input
+// channel (woken by the segment's doorbell), checks each frame (shm/validate.hpp), feeds the
+// pipeline inside a TBB arena and writes pose, VRS, tracks and health back. Bad frames are
+// rejected, counted per input and reason, logged (rate-limited), never fatal.
+//
+//   Daemon d(loadServiceConfig(file));   // loads the map, builds the caster, creates the segment
+//   d.run(stop_flag);                    // until stop_flag; then the segment says STOPPED
+#pragma once
+
+#include "pipeline/channels.hpp"
+#include "pipeline/daemon_config.hpp"
+#include "pipeline/live_state.hpp"
+#include "shm/segment.hpp"
+
+#include <atomic>
+#include <memory>
+
+namespace polyloc::pipeline {
+
+class Daemon {
+ public:
+  explicit Daemon(ServiceConfig config);
+  ~Daemon();
+
+  void run(const std::atomic<bool>& stop);
+  const ServiceConfig& config() const { return cfg_; }
+  const ChannelTable& channels() const { return table_; }
+  LiveState& live() { return *live_; }  // for the control endpoint (thread-safe)
+
+ private:
+  struct Impl;
+  ServiceConfig cfg_;
+  ChannelTable table_;
+  std::unique_ptr<LiveState> live_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace polyloc::pipeline

@@ -1,0 +1,64 @@
+#include "pipeline/daemon_config.hpp"
+
+#include <polyloc/geometry/pose.hpp>
+
+#include <cctype>
+#include <cmath>
+
+namespace polyloc::pipeline {
+
+DaemonConfig parseDaemonConfig(ConfigMap m) {
+  DaemonConfig c;
+  if (m.has("instance")) {
+    const ConfigValue v = m.value("instance");
+    c.instance = v.asString();
+    for (char ch : c.instance)
+      if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.')
+        v.fail("'" + c.instance + "': letters, digits, '_', '-', '.' only");
+    if (c.instance.empty() || c.instance.size() > 24) v.fail("1 to 24 characters");
+  }
+  c.threads = static_cast<int>(m.getCount("threads", 0, 0, 1024));
+  c.slots = static_cast<uint32_t>(m.getCount("slots", c.slots, 2, 4096));
+  c.source_clock = m.getChoice("clock", "wall", {"wall", "source"}) == "source";
+  auto ns = [&](const char* key, int64_t def, double lo, double hi) {
+    return static_cast<int64_t>(std::llround(m.getDouble(key, double(def) * 1e-9, lo, hi) * 1e9));
+  };
+  c.max_age_ns = ns("max_age", c.max_age_ns, 0.001, 3600);
+  c.max_future_ns = ns("max_future", c.max_future_ns, 0, 3600);
+  c.input_timeout_ns = ns("input_timeout", c.input_timeout_ns, 0.01, 3600);
+  c.health_rate_hz = m.getDouble("health_rate", c.health_rate_hz, 0.1, 1000);
+  if (m.has("init")) {
+    const ConfigValue v = m.value("init");
+    if (v.isScalar()) {
+      if (v.asString() != "global") v.fail("init: 'global' or a pose {x, y, z, yaw, sigma_xy, sigma_yaw}");
+    } else {
+      ConfigMap p = v.asMap();
+      InitPose ip;
+      ip.pose = Pose::fromXYZRPY(p.getDouble("x", 0), p.getDouble("y", 0), p.getDouble("z", 0), 0, 0, p.getAngle("yaw", 0));
+      ip.sigma_xy = p.getDouble("sigma_xy", ip.sigma_xy, 0, 100);
+      ip.sigma_yaw = p.getAngle("sigma_yaw", ip.sigma_yaw);
+      p.finish();
+      c.init = ip;
+    }
+  }
+  if (m.has("control")) {
+    ConfigMap k = m.map("control");
+    c.control.enabled = k.getBool("enabled", c.control.enabled);
+    c.control.bind = k.getString("bind", c.control.bind);
+    c.control.port = static_cast<uint16_t>(k.getCount("port", c.control.port, 0, 65535));
+    k.finish();
+  }
+  c.log_level = m.getChoice("log_level", c.log_level, {"trace", "debug", "info", "warn", "error", "off"});
+  m.finish();
+  return c;
+}
+
+ServiceConfig loadServiceConfig(const std::string& path) {
+  ServiceConfig s;
+  s.polyloc = loadConfig(path);
+  ConfigMap m = ConfigMap::load(path);
+  if (m.has("polylocd")) s.daemon = parseDaemonConfig(m.map("polylocd"));
+  return s;
+}
+
+}  // namespace polyloc::pipeline

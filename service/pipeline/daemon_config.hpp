@@ -1,0 +1,62 @@
+// polylocd's own settings: the `polylocd:` section of the polyloc config file (the rest of the
+// file is PolylocConfig: map, robot, rig, mcl, vrs, tracking, depth_filter). Every key has a
+// default; docs/polylocd.md lists them.
+//
+//   polylocd:
+//     instance: lab          # shared-memory segment /polyloc.lab
+//     threads: 0             # TBB arena for the kernels (0: all cores)
+//     slots: 16              # ring slots per channel
+//     clock: wall            # wall: stamps are CLOCK_REALTIME; source: time is the newest input stamp
+//     max_age: 0.5           # s: older frames are stale
+//     max_future: 0.1        # s: frames stamped later than now + this are rejected
+//     input_timeout: 1.0     # s: an input silent this long is reported (health, log)
+//     health_rate: 10        # Hz
+//     init: global           # global | ground_truth-free start pose {x, y, z, yaw, sigma_xy, sigma_yaw}
+//     control: {enabled: true, bind: 127.0.0.1, port: 5115}
+//     log_level: info
+#pragma once
+
+#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/geometry/pose.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace polyloc::pipeline {
+
+struct InitPose {
+  Pose pose;
+  double sigma_xy = 0.1, sigma_yaw = 0.0873;  // m, rad
+};
+
+struct ControlConfig {
+  bool enabled = true;
+  std::string bind = "127.0.0.1";  // loopback: the control endpoint is for the robot's own computer
+  uint16_t port = 5115;
+};
+
+struct DaemonConfig {
+  std::string instance = "polyloc";
+  int threads = 0;
+  uint32_t slots = 16;
+  bool source_clock = false;
+  int64_t max_age_ns = 500'000'000;
+  int64_t max_future_ns = 100'000'000;
+  int64_t input_timeout_ns = 1'000'000'000;
+  double health_rate_hz = 10;
+  std::optional<InitPose> init;  // nullopt: global localisation
+  ControlConfig control;
+  std::string log_level = "info";
+};
+
+struct ServiceConfig {
+  PolylocConfig polyloc;
+  DaemonConfig daemon;
+};
+
+// Reads the whole file; errors are ConfigError naming file, line and key.
+ServiceConfig loadServiceConfig(const std::string& path);
+DaemonConfig parseDaemonConfig(ConfigMap m);
+
+}  // namespace polyloc::pipeline

@@ -1,0 +1,106 @@
+#include "pipeline/pipeline.hpp"
+
+#include <polyloc/eval/ground_truth.hpp>  // isFinite(Pose)
+#include <polyloc/vrs/moving_objects.hpp>
+
+#include <algorithm>
+#include <limits>
+
+namespace polyloc::pipeline {
+
+Pipeline::Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster) : cfg_(config), map_(map) {
+  loc_ = std::make_unique<Localizer>(caster, map_, cfg_.rig, cfg_.mcl);
+  vrs_ = std::make_unique<VirtualRangeScanner>(cfg_.rig, cfg_.robot, cfg_.vrs, &map_);
+  people_ = std::make_unique<PeopleTracker>(cfg_.rig, cfg_.tracking);
+  level_ = people_->sensors();
+  // Like perceive: the VRS and tracks renew at the last level scanner's frames, when the other
+  // scanners' frames of that instant are in.
+  trigger_ = level_.empty() ? 0 : level_.back();
+  filters_.resize(cfg_.rig.size());
+  depth_factor_.resize(cfg_.rig.size());
+  for (size_t k = 0; k < cfg_.rig.size(); ++k)
+    if (const auto* cam = std::get_if<DepthCameraSpec>(&cfg_.rig.sensors[k].spec)) {
+      filters_[k].emplace(*cam, cfg_.rig.sensors[k].mount, cfg_.depth_filter);
+      depth_factor_[k] = cam->depthFactors();
+    }
+}
+
+Pipeline::~Pipeline() = default;
+
+void Pipeline::initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns) {
+  loc_->initPose(map_T_base, covariance, stamp_ns);
+  map_T_odom_ = map_T_base * odom_T_base_.inverse();
+  initialised_ = true;
+}
+
+void Pipeline::initGlobal(int64_t stamp_ns) {
+  loc_->initGlobal(stamp_ns);
+  initialised_ = true;
+}
+
+void Pipeline::addOdometry(int64_t stamp_ns, const Pose& odom_T_base) {
+  ++counters_.odometry;
+  loc_->addOdometry(stamp_ns, odom_T_base);
+  if (isFinite(odom_T_base)) odom_T_base_ = odom_T_base, have_odom_ = true;
+}
+
+void Pipeline::afterScan(bool updated, PipelineSink& sink) {
+  if (!updated) return;
+  const MclEstimate e = loc_->estimate();
+  // The estimate is at the scan's stamp; the odometry read so far is at most that new (inputs
+  // come in stamp order), so this correction holds until the next update (REP-105).
+  if (isFinite(e.pose) && e.status != MclStatus::Initialising) map_T_odom_ = e.pose * odom_T_base_.inverse();
+  ++counters_.poses;
+  sink.onPose(e, map_T_odom_);
+}
+
+bool Pipeline::addRanges(size_t sensor, int64_t stamp_ns, std::span<const float> ranges, PipelineSink& sink) {
+  if (sensor >= cfg_.rig.size() || std::holds_alternative<DepthCameraSpec>(cfg_.rig.sensors[sensor].spec) ||
+      ranges.size() != cfg_.rig.sensors[sensor].beams().size()) {
+    ++counters_.rejected;
+    return false;
+  }
+  ++counters_.ranges;
+  if (initialised_) afterScan(loc_->addScan(sensor, stamp_ns, ranges), sink);
+  perceive(sensor, stamp_ns, ranges, sink);
+  return true;
+}
+
+bool Pipeline::addDepth(size_t sensor, int64_t stamp_ns, const float* depth, const float* amplitude, PipelineSink& sink) {
+  if (sensor >= cfg_.rig.size() || !filters_[sensor] || !depth) {
+    ++counters_.rejected;
+    return false;
+  }
+  ++counters_.depth;
+  const auto& factor = depth_factor_[sensor];
+  // The localiser weighs ranges along the pixel rays; the camera gives depth along the axis.
+  scratch_.resize(factor.size());
+  for (size_t b = 0; b < factor.size(); ++b)
+    scratch_[b] = factor[b] > 0 ? depth[b] / factor[b] : std::numeric_limits<float>::quiet_NaN();
+  if (initialised_) afterScan(loc_->addScan(sensor, stamp_ns, scratch_), sink);
+  if (!vrs_enabled_) return true;
+  const auto& spec = filters_[sensor]->camera();
+  filters_[sensor]->apply(DepthFrameView{spec.width, spec.height, depth, amplitude, nullptr}, depth_result_);
+  points_.clear();
+  for (size_t k = 0; k < depth_result_.x.size(); ++k) points_.emplace_back(depth_result_.x[k], depth_result_.y[k], depth_result_.z[k]);
+  vrs_->addPoints(sensor, stamp_ns, currentPose(), points_);
+  return true;
+}
+
+void Pipeline::perceive(size_t sensor, int64_t stamp_ns, std::span<const float> ranges, PipelineSink& sink) {
+  const Pose pose = currentPose();
+  if (vrs_enabled_) vrs_->addFrame(sensor, stamp_ns, pose, ranges);
+  const bool level = std::find(level_.begin(), level_.end(), sensor) != level_.end();
+  if (level) people_->addScan(sensor, stamp_ns, cfg_.rig.sensors[sensor].worldPose(pose), ranges);
+  if (sensor != trigger_) return;
+  people_->flush();
+  ++counters_.tracks;
+  sink.onTracks(stamp_ns, people_->tracks());
+  if (!vrs_enabled_) return;
+  vrs_->setMovingObjects(movingObjects(people_->tracks()));
+  const VirtualScan v = vrs_->update(stamp_ns, pose);
+  ++counters_.vrs;
+  sink.onVrs(v);
+}
+
+}  // namespace polyloc::pipeline

@@ -1,0 +1,94 @@
+// The kernels composed for live frames (the data flow of DESIGN.md): odometry into the
+// localiser's prediction; every range frame into the localiser, the VRS and (level scanners)
+// people tracking; depth frames as ranges into the localiser and, filtered, as points into the
+// VRS. Outputs go to a sink the moment they are ready: the pose first (it is what a controller
+// waits for), then VRS and tracks. No threads and no I/O of its own (the caller runs it inside
+// its TBB arena) and not thread-safe: one thread feeds it.
+//
+//   Pipeline p(config, map, caster);
+//   p.initGlobal(t0);
+//   p.addOdometry(t, odom_T_base);
+//   p.addRanges(sensor, t, ranges, sink);       // sink.onPose / onVrs / onTracks
+#pragma once
+
+#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/depth/filter.hpp>
+#include <polyloc/map/mesh.hpp>
+#include <polyloc/mcl/localizer.hpp>
+#include <polyloc/raycast/ray_caster.hpp>
+#include <polyloc/tracking/people_tracker.hpp>
+#include <polyloc/vrs/virtual_scan.hpp>
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace polyloc::pipeline {
+
+class PipelineSink {
+ public:
+  virtual ~PipelineSink() = default;
+  // A measurement update ended: the estimate and the map->odom correction (REP-105).
+  virtual void onPose(const MclEstimate& e, const Pose& map_T_odom) {}
+  virtual void onVrs(const VirtualScan& v) {}
+  virtual void onTracks(int64_t stamp_ns, const Tracks& t) {}
+};
+
+struct PipelineCounters {
+  uint64_t odometry = 0, ranges = 0, depth = 0;
+  uint64_t poses = 0, vrs = 0, tracks = 0;
+  uint64_t rejected = 0;  // frames a kernel refused (wrong sensor kind, size): also logged by the caller
+};
+
+class Pipeline {
+ public:
+  Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster);
+  ~Pipeline();
+
+  void initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);
+  void initGlobal(int64_t stamp_ns);
+  bool initialised() const { return initialised_; }
+
+  void addOdometry(int64_t stamp_ns, const Pose& odom_T_base);
+  // Ranges of a scanner or lidar of the rig in its beam order. False: not such a sensor / size.
+  bool addRanges(size_t sensor, int64_t stamp_ns, std::span<const float> ranges, PipelineSink& sink);
+  // A depth camera's frame: depth along the optical axis (width x height of its spec), amplitude
+  // nullable.
+  bool addDepth(size_t sensor, int64_t stamp_ns, const float* depth, const float* amplitude, PipelineSink& sink);
+
+  // Switches VRS computation and publication (SETCOLLISIONAVOIDANCE); tracks go on.
+  void setVrsEnabled(bool on) { vrs_enabled_ = on; }
+  bool vrsEnabled() const { return vrs_enabled_; }
+
+  const PolylocConfig& config() const { return cfg_; }
+  const Localizer& localizer() const { return *loc_; }
+  Pose mapToOdom() const { return map_T_odom_; }
+  // Where the robot is now: the last estimate moved on by the odometry since.
+  Pose currentPose() const { return map_T_odom_ * odom_T_base_; }
+  const PipelineCounters& counters() const { return counters_; }
+  const VirtualRangeScanner& vrs() const { return *vrs_; }
+  const PeopleTracker& people() const { return *people_; }
+
+ private:
+  void perceive(size_t sensor, int64_t stamp_ns, std::span<const float> ranges, PipelineSink& sink);
+  void afterScan(bool updated, PipelineSink& sink);
+
+  PolylocConfig cfg_;
+  const Mesh& map_;
+  std::unique_ptr<Localizer> loc_;
+  std::unique_ptr<VirtualRangeScanner> vrs_;
+  std::unique_ptr<PeopleTracker> people_;
+  std::vector<size_t> level_;       // tracking scanners
+  size_t trigger_ = 0;              // VRS and tracks update at this sensor's frames
+  std::vector<std::optional<DepthFilter>> filters_;
+  std::vector<std::vector<float>> depth_factor_;
+  DepthFilterResult depth_result_;
+  std::vector<float> scratch_;
+  std::vector<Eigen::Vector3f> points_;
+  Pose odom_T_base_, map_T_odom_;
+  bool have_odom_ = false, initialised_ = false, vrs_enabled_ = true;
+  PipelineCounters counters_;
+};
+
+}  // namespace polyloc::pipeline

@@ -1,0 +1,59 @@
+#!/bin/bash
+# polylocd end to end, as a user runs it: the config is checked (a bad key is named with its
+# line), the daemon starts, `polyloc play` feeds 12 s of the lab tour simulated live at real
+# time, the poses that come back follow the ground truth, hardly a frame is dropped, SIGTERM
+# stops the daemon cleanly; play without a daemon says which segment is missing.
+set -euo pipefail
+POLYLOC=$1
+SRC=$2
+POLYLOCD=$(dirname "$POLYLOC")/polylocd
+PY=$(command -v python3)
+cd "$SRC"
+tmp=$(mktemp -d)
+instance=clitest_$$
+pid=
+trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null; rm -rf "$tmp" /dev/shm/polyloc.$instance' EXIT
+
+"$POLYLOCD" --config maps/config/lab.yaml --check | grep -q "ok (rig 'lisa', 7 sensors, instance 'lab')"
+cat > "$tmp/bad.yaml" <<YAML
+map: $SRC/maps/lab.obj
+robot: {footprint: [[0.3, 0.25], [-0.3, 0.25], [-0.3, -0.25], [0.3, -0.25]], height: 1.2}
+rig: lisa
+polylocd:
+  instance: x
+  slotz: 4
+YAML
+if "$POLYLOCD" --config "$tmp/bad.yaml" --check 2> "$tmp/err"; then echo "bad config accepted" >&2; exit 1; fi
+grep -q "bad.yaml:6" "$tmp/err" && grep -q "slotz" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+
+if "$POLYLOC" play --scenario maps/scenarios/lab_tour.yaml --shm "$instance" --wait 0.3 --duration 1 2> "$tmp/err"; then
+  echo "play without polylocd succeeded" >&2; exit 1
+fi
+grep -q "/polyloc.$instance" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+
+"$POLYLOCD" --config maps/config/lab.yaml --instance "$instance" --control-port 0 --init 1.3,1.75,0 --threads 2 \
+  2> "$tmp/polylocd.log" &
+pid=$!
+"$POLYLOC" play --scenario maps/scenarios/lab_tour.yaml --shm "$instance" --duration 12 --json --quiet \
+  --plot "$tmp/play.png" > "$tmp/play.json"
+"$PY" - "$tmp/play.json" <<'PYEOF'
+import json, sys
+j = json.load(open(sys.argv[1]))
+for k in ("sent", "poses", "latency_ms", "dropped", "rejected", "per_channel", "polylocd", "accuracy"):
+    assert k in j, k
+assert j["poses"] > 30, j["poses"]
+lost = j["dropped"] + j["rejected"]
+assert lost <= 0.02 * j["sent"], (lost, j["sent"])   # a loaded CI machine may be late now and then
+assert j["accuracy"]["p95_pos_err_m"] < 0.05, j["accuracy"]
+assert j["latency_ms"]["p50"] > 0
+for ch in ("odom", "scan/s300_front_left", "depth/tof_front"):
+    assert j["per_channel"][ch] > 0 and j["polylocd"]["inputs"][ch]["taken"] > 0, ch
+assert j["polylocd"]["vrs"] > 50 and j["polylocd"]["tracks"] > 50, j["polylocd"]
+print("polylocd ok:", j["poses"], "poses, p95", round(j["accuracy"]["p95_pos_err_m"], 4), "m, latency p50",
+      round(j["latency_ms"]["p50"], 2), "ms, lost", lost)
+PYEOF
+test -s "$tmp/play.png"
+kill -TERM $pid
+wait $pid
+pid=
+grep -q "stopped after" "$tmp/polylocd.log" || { cat "$tmp/polylocd.log" >&2; exit 1; }

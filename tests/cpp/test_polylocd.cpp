@@ -1,0 +1,240 @@
+// polylocd end to end in one process: the daemon on its own thread over a real segment, fed by
+// MessageFeed (what `polyloc play` uses) with a simulated lab tour; rejected frames, silent
+// inputs, restarts.
+#include "pipeline/daemon.hpp"
+#include "pipeline/message_feed.hpp"
+#include "pipeline/shm_payloads.hpp"
+#include "shm/channel.hpp"
+#include "sim_fixtures.hpp"
+
+#include <polyloc/sim/scenario.hpp>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+using namespace polyloc;
+using namespace polyloc::pipeline;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::string uniqueInstance(const char* what) { return fmt::format("test_{}_{}", what, getpid()); }
+
+int64_t realtimeNs() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+ServiceConfig labConfig(const std::string& instance) {
+  ServiceConfig c = loadServiceConfig(std::string(POLYLOC_SOURCE_DIR) + "/maps/config/lab.yaml");
+  c.daemon.instance = instance;
+  c.daemon.threads = 2;
+  c.daemon.control.enabled = false;
+  c.daemon.init = InitPose{Pose::planar(1.3, 1.75, 0)};  // a global start takes 100k particles: slow for these tests
+  return c;
+}
+
+// The daemon on its own thread; stops and joins on destruction.
+struct Running {
+  std::unique_ptr<Daemon> daemon;
+  std::atomic<bool> stop{false};
+  std::thread thread;
+  bool unlink = true;  // the segment's name, after the stop (polylocd itself leaves it)
+  explicit Running(ServiceConfig c, bool unlink_at_end = true)
+      : daemon(std::make_unique<Daemon>(std::move(c))), unlink(unlink_at_end) {
+    thread = std::thread([this] { daemon->run(stop); });
+  }
+  ~Running() {
+    stop = true;
+    thread.join();
+    if (unlink) shm::Segment::unlink(daemon->config().daemon.instance);
+  }
+};
+
+// The daemon says READY once its thread runs.
+shm::Segment attachReady(const std::string& name) {
+  for (int i = 0;; ++i) {
+    try {
+      return shm::Segment::attach(name);
+    } catch (const shm::ShmError&) {
+      if (i > 200) throw;
+      std::this_thread::sleep_for(20ms);
+    }
+  }
+}
+
+std::optional<polyloc_health> health(const shm::Segment& seg) {
+  shm::Reader r(seg, seg.find("health"), shm::Reader::Start::Newest);
+  std::vector<uint8_t> buf;
+  if (!r.newest(buf) || buf.size() < sizeof(polyloc_health)) return std::nullopt;
+  polyloc_health h;
+  std::memcpy(&h, buf.data(), sizeof h);
+  return h;
+}
+
+// Waits until polylocd's health shows `frames` taken or rejected in all, or 30 s.
+polyloc_health settle(const shm::Segment& seg, uint64_t frames) {
+  const auto end = std::chrono::steady_clock::now() + 30s;
+  polyloc_health h{};
+  while (std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(50ms);
+    auto got = health(seg);
+    if (!got) continue;
+    h = *got;
+    uint64_t n = 0;
+    for (uint32_t i = 0; i < h.inputs; ++i) {
+      const auto& x = h.input[i];
+      n += x.taken + x.rejected_nan + x.rejected_size + x.rejected_stale + x.rejected_future + x.overruns;
+    }
+    if (n >= frames) break;
+  }
+  return h;
+}
+
+}  // namespace
+
+// A simulated 8 s of the lab tour, fed as fast as the daemon takes it (clock: source, rings
+// large enough to hold the whole run): the pose follows the truth, VRS and tracks come out, no
+// frame is rejected or lost.
+TEST(Polylocd, LocalisesAFedLabTour) {
+  Scenario s = loadScenario(std::string(POLYLOC_SOURCE_DIR) + "/maps/scenarios/lab_tour.yaml");
+  s.duration = 8;
+  Simulator sim(s, loadScenarioMap(s));
+  test::CaptureWriter rec;
+  sim.run(rec);
+
+  ServiceConfig c = labConfig(uniqueInstance("tour"));
+  c.daemon.source_clock = true;
+  c.daemon.max_age_ns = 3600'000'000'000;  // fed unpaced: one channel may run seconds ahead of another
+  c.daemon.slots = 512;
+  const Pose start = sim.groundTruth(0);
+  c.daemon.init = InitPose{start, 0.05, 0.05};
+  Running d(std::move(c));
+  shm::Segment seg = attachReady(d.daemon->config().daemon.instance);
+  shm::Reader poses(seg, seg.find("pose"), shm::Reader::Start::Oldest);
+  shm::Reader vrs(seg, seg.find("vrs"), shm::Reader::Start::Oldest);
+  MessageFeed feed(seg);
+  for (const auto& e : rec.entries) feed.send(e.topic, e.stamp, e.message);
+  feed.flush();
+  const polyloc_health h = settle(seg, feed.sent());
+
+  uint64_t taken = 0;
+  for (uint32_t i = 0; i < h.inputs; ++i) {
+    const auto& x = h.input[i];
+    EXPECT_EQ(x.rejected_nan + x.rejected_size + x.rejected_stale + x.rejected_future, 0u) << seg.channel(int(i)).name;
+    EXPECT_EQ(x.overruns, 0u) << seg.channel(int(i)).name;
+    taken += x.taken;
+  }
+  EXPECT_EQ(taken, feed.sent());
+  EXPECT_GT(h.vrs, 10u);
+  EXPECT_GT(h.tracks, 10u);
+
+  std::vector<uint8_t> buf;
+  size_t n = 0;
+  double worst = 0;
+  while (auto f = poses.next(buf)) {
+    polyloc_pose p;
+    std::memcpy(&p, buf.data(), sizeof p);
+    const double t = double(p.stamp_ns - rec.entries.front().stamp) * 1e-9;
+    const Pose truth = sim.groundTruth(t);
+    worst = std::max(worst, (posePose(p).translation() - truth.translation()).head<2>().norm());
+    EXPECT_GE(p.latency_ns, 0);
+    ++n;
+  }
+  EXPECT_GT(n, 20u);
+  EXPECT_LT(worst, 0.15);
+  ASSERT_TRUE(vrs.newest(buf));
+  polyloc_vrs v;
+  std::memcpy(&v, buf.data(), sizeof v);
+  EXPECT_EQ(v.count, seg.channel(seg.find("vrs")).count);
+  EXPECT_EQ(v.enabled, 1u);
+}
+
+// Malformed frames are rejected, counted by reason, and the daemon goes on with good ones.
+TEST(Polylocd, RejectsBadFramesAndGoesOn) {
+  ServiceConfig c = labConfig(uniqueInstance("bad"));
+  Running d(std::move(c));
+  shm::Segment seg = attachReady(d.daemon->config().daemon.instance);
+  const int odom = seg.find("odom"), scan = seg.find("scan/s300_front_left");
+  ASSERT_GE(odom, 0);
+  ASSERT_GE(scan, 0);
+  shm::Writer wo(seg, odom), ws(seg, scan);
+  const int64_t now = realtimeNs();
+  polyloc_odometry o = odometryPayload(now, Pose::planar(1, 2, 0.3));
+  wo.write(&o, sizeof o, now);                        // good
+  o.stamp_ns = now + 1'000'000, o.x = std::nan("");
+  wo.write(&o, sizeof o, o.stamp_ns);                 // NaN
+  o.x = 1, o.stamp_ns = now - 10'000'000'000;
+  wo.write(&o, sizeof o, o.stamp_ns);                 // stale
+  o.stamp_ns = now + 60'000'000'000;
+  wo.write(&o, sizeof o, o.stamp_ns);                 // future
+  wo.write(&o, 12, now);                              // short
+  const uint32_t beams = seg.channel(scan).count;
+  std::vector<uint8_t> frame(offsetof(polyloc_ranges, ranges) + 4 * (beams - 1));
+  const polyloc_ranges rh{now + 2'000'000, beams - 1, 0};
+  std::memcpy(frame.data(), &rh, sizeof rh);
+  ws.write(frame.data(), uint32_t(frame.size()), rh.stamp_ns);  // one beam short
+  o.stamp_ns = now + 3'000'000, o.x = 1.1;
+  wo.write(&o, sizeof o, o.stamp_ns);                 // good again
+  const polyloc_health h = settle(seg, 7);
+  const auto& ho = h.input[odom];
+  EXPECT_EQ(ho.taken, 2u);
+  EXPECT_EQ(ho.rejected_nan, 1u);
+  EXPECT_EQ(ho.rejected_stale, 1u);
+  EXPECT_EQ(ho.rejected_future, 1u);
+  EXPECT_EQ(ho.rejected_size, 1u);
+  EXPECT_EQ(h.input[scan].rejected_size, 1u);
+}
+
+// An input that stops is reported silent in the health channel, and recovers.
+TEST(Polylocd, ReportsSilentInputs) {
+  ServiceConfig c = labConfig(uniqueInstance("silent"));
+  c.daemon.input_timeout_ns = 200'000'000;
+  c.daemon.health_rate_hz = 50;
+  Running d(std::move(c));
+  shm::Segment seg = attachReady(d.daemon->config().daemon.instance);
+  const int odom = seg.find("odom");
+  shm::Writer wo(seg, odom);
+  auto send = [&] {
+    const int64_t now = realtimeNs();
+    const polyloc_odometry o = odometryPayload(now, Pose::planar(1, 2, 0.3));
+    wo.write(&o, sizeof o, now);
+  };
+  send();
+  std::this_thread::sleep_for(100ms);
+  EXPECT_FALSE(health(seg)->input[odom].silent);
+  std::this_thread::sleep_for(400ms);
+  auto h = health(seg);
+  EXPECT_TRUE(h->input[odom].silent);
+  EXPECT_TRUE(h->flags & 1u);
+  send();
+  std::this_thread::sleep_for(100ms);
+  EXPECT_FALSE(health(seg)->input[odom].silent);
+}
+
+// A restarted daemon bumps the generation: an attached client sees stale() and re-attaches.
+TEST(Polylocd, ClientsNoticeARestart) {
+  const std::string name = uniqueInstance("restart");
+  uint32_t first = 0;
+  std::optional<shm::Segment> client;
+  {
+    Running d(labConfig(name), false);
+    client.emplace(attachReady(name));
+    first = client->generation();
+    EXPECT_FALSE(client->stale());
+  }
+  EXPECT_TRUE(client->stale());  // stopped
+  Running d(labConfig(name));
+  shm::Segment again = attachReady(name);
+  EXPECT_TRUE(client->stale());
+  EXPECT_EQ(again.generation(), first + 1);
+  EXPECT_FALSE(again.stale());
+}
