@@ -1,7 +1,9 @@
 // polylocd: the co-process. Reads its config (map, robot, rig, filters, MCL, VRS, tracking and
 // the `polylocd:` section), creates the shared-memory segment, and runs until SIGINT/SIGTERM.
 // docs/polylocd.md is the user guide.
+#include "pipeline/control.hpp"
 #include "pipeline/daemon.hpp"
+#include "protocol/server.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -68,7 +70,21 @@ int main(int argc, char** argv) {
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
     polyloc::pipeline::Daemon daemon(std::move(cfg));
+    std::unique_ptr<polyloc::pipeline::DaemonControl> control;
+    std::unique_ptr<polyloc::protocol::Server> server;
+    const auto& cc = daemon.config().daemon.control;
+    if (cc.enabled) {
+      std::vector<std::string> inputs;
+      for (int ch : daemon.channels().inputs) inputs.push_back(daemon.channels().specs[size_t(ch)].name);
+      control = std::make_unique<polyloc::pipeline::DaemonControl>(daemon.live(), daemon.config(), std::move(inputs));
+      polyloc::protocol::ServerConfig sc;
+      sc.bind_address = cc.bind, sc.port = cc.port;
+      server = std::make_unique<polyloc::protocol::Server>(sc, *control);
+      server->start();
+      spdlog::info("control endpoint on {}:{} (docs/protocol.md)", cc.bind, server->port());
+    }
     daemon.run(g_stop);
+    if (server) server->stop();
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;
