@@ -12,7 +12,7 @@
 //     input_timeout: 1.0     # s: an input silent this long is reported (health, log)
 //     health_rate: 10        # Hz
 //     init: global           # global | ground_truth-free start pose {x, y, z, yaw, sigma_xy, sigma_yaw}
-//     control: {enabled: true, bind: 127.0.0.1, port: 5115}
+//     control: {enabled: true, bind: 127.0.0.1, port: 7410}
 //     log_level: info
 #pragma once
 
@@ -33,7 +33,7 @@ struct InitPose {
 struct ControlConfig {
   bool enabled = true;
   std::string bind = "127.0.0.1";  // loopback: the control endpoint is for the robot's own computer
-  uint16_t port = 5115;
+  uint16_t port = 7410;
 };
 
 struct DaemonConfig {

@@ -53,6 +53,26 @@ print("polylocd ok:", j["poses"], "poses, p95", round(j["accuracy"]["p95_pos_err
       round(j["latency_ms"]["p50"], 2), "ms, lost", lost)
 PYEOF
 test -s "$tmp/play.png"
+
+# The control endpoint of the running daemon (its port from the log: --control-port 0).
+port=$(sed -n 's/.*control endpoint on 127.0.0.1:\([0-9]*\).*/\1/p' "$tmp/polylocd.log" | head -1)
+[ -n "$port" ] || { cat "$tmp/polylocd.log" >&2; exit 1; }
+"$POLYLOC" ctl --port "$port" ping > /dev/null
+"$POLYLOC" ctl --port "$port" getpose --json > "$tmp/pose.json"
+"$POLYLOC" ctl --port "$port" scanners --json > "$tmp/scanners.json"
+"$POLYLOC" ctl --port "$port" scan 1 --json > "$tmp/scan.json"
+"$POLYLOC" ctl --port "$port" setca 0 > /dev/null
+"$POLYLOC" ctl --port "$port" getca --json > "$tmp/ca.json"
+"$POLYLOC" ctl --port "$port" status --json > "$tmp/status.json"
+"$PY" - "$tmp" <<'PYEOF'
+import json, sys, os
+d = sys.argv[1]
+load = lambda n: json.load(open(os.path.join(d, n)))
+play, pose, sc, scan, ca, st = (load(n) for n in ("play.json", "pose.json", "scanners.json", "scan.json", "ca.json", "status.json"))
+print("ctl getpose:", json.dumps(pose)[:200])
+print("ctl scanners:", json.dumps(sc)[:200])
+print("ctl status:", json.dumps(st)[:300])
+PYEOF
 kill -TERM $pid
 wait $pid
 pid=
