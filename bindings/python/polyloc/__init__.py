@@ -8,6 +8,9 @@ extension module ``polyloc._polyloc``, plus a few helpers written in Python:
 - :func:`replay` feeds a run into a :class:`Localizer` and pairs each estimate with the truth,
 - :func:`settings_dict` turns a settings struct (MclConfig, DepthFilterConfig, ...) into a dict.
 
+The submodule :mod:`polyloc.shm` is the shared-memory client of polylocd (segments, channel
+writers and readers; docs/interface.md).
+
 Errors: FileNotFoundError for missing files; MapError and RecordingError (OSError) for files that
 cannot be read; ConfigError (ValueError) naming file, line and key; ValueError for wrong array
 shapes or values, TypeError for arrays that are not numeric. docs/python.md has an overview.
@@ -23,6 +26,7 @@ from . import _polyloc
 from ._polyloc import *  # noqa: F401,F403  (the kernels)
 from ._polyloc import (Estimate, Localizer, Pose, Rig, Scenario, SimFrame, Simulator,
                        load_scenario)
+from . import shm  # noqa: E402  (the Python module polyloc.shm over _polyloc._shm)
 
 
 @dataclass

@@ -74,5 +74,6 @@ void bindDepth(pb::module_& m);
 void bindVrs(pb::module_& m);
 void bindTracking(pb::module_& m);
 void bindRecording(pb::module_& m);
+void bindShm(pb::module_& m);  // polyloc.shm: the shared-memory client (service/shm)
 
 }  // namespace polyloc::py

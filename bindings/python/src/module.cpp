@@ -28,4 +28,5 @@ PYBIND11_MODULE(_polyloc, m) {
   py::bindVrs(m);
   py::bindTracking(m);
   py::bindRecording(m);
+  py::bindShm(m);  // the submodule _shm, re-exported by polyloc/shm.py as polyloc.shm
 }

@@ -11,3 +11,4 @@ def test_python_md_example_runs(root, monkeypatch, capsys):
         exec(compile(code, "docs/python.md", "exec"), {})
     out = capsys.readouterr().out
     assert "[1.675 1.5  ]" in out and "tracking" in out
+    assert "tracking 1.3 1.75 2000 (6, 6) 0" in out  # the polyloc.shm example
