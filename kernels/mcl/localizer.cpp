@@ -321,6 +321,10 @@ struct Localizer::Impl {
     const RefineResult r = refinePose(caster, rig, scans, est.pose, config.refine.dof ? config.refine.dof : config.dof, config.refine);
     if (!r.accepted) return void(++counters.refinements_refused);
     est.pose = r.pose;
+    // The cloud of a well-observed pose collapses to copies of a few particles (its spread can
+    // read 1e-10 m); the fit's covariance says how well the scans pin the refined pose. Both
+    // together are what a controller should be told.
+    est.covariance += r.covariance;
     est.refined = true;
     ++counters.refinements;
   }

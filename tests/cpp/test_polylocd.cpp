@@ -147,6 +147,10 @@ TEST(Polylocd, LocalisesAFedLabTour) {
     const Pose truth = sim.groundTruth(t);
     worst = std::max(worst, (posePose(p).translation() - truth.translation()).head<2>().norm());
     EXPECT_GE(p.latency_ns, 0);
+    if (p.status == POLYLOC_POSE_TRACKING) {  // a sane spread: neither collapsed nor lost
+      EXPECT_GT(std::sqrt(p.covariance[0]), 1e-4);
+      EXPECT_LT(std::sqrt(p.covariance[0]), 0.1);
+    }
     ++n;
   }
   EXPECT_GT(n, 20u);
