@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soak test of polylocd (not in `make test`): the office patrol with the taser rig, whose two
+# Soak test of polylocd (not in `make test`): a closed loop of the office with the taser rig, whose two
 # SICK LMS200 scan at 75 Hz, simulated live and played at real time in a loop for DURATION
 # seconds (default 600). Samples polylocd's resident memory every 10 s into OUT/rss.csv and
 # prints the play summary and the memory figures: first (after the first minute), last, max.
@@ -24,7 +24,7 @@ echo "t_s,rss_kib" >"$out/rss.csv"
   done
 ) &
 sampler=$!
-"$build/bin/polyloc" play --scenario maps/scenarios/office_patrol.yaml --shm "$instance" --loop \
+"$build/bin/polyloc" play --scenario maps/scenarios/office_loop.yaml --shm "$instance" --loop \
   --duration "$duration" --json --plot "$out/soak.png" >"$out/play.json"
 kill $sampler 2>/dev/null || true
 cat "$out/play.json"

@@ -259,7 +259,10 @@ struct Localizer::Impl {
     const size_t needed = std::max<size_t>(std::min<size_t>(2, round_sensors), (round_sensors + 2) / 3);
     // Lost by the fit only: all particles blocked (a robot closer to a wall than robot_radius)
     // collapses the weights too, but says nothing about where the robot is.
-    const bool low = round_low >= needed || 2 * round_lost > round_sensors;
+    // Nor is a round whose estimate the scans pin against the mesh (refine accepted): over a
+    // long run w_slow creeps up where the fit is best, and a person in a corridor then reads as a
+    // kidnapping for rounds on end although the pose is right (soak, docs/benchmarks.md).
+    const bool low = (round_low >= needed || 2 * round_lost > round_sensors) && !est.refined;
     low_rounds = low ? low_rounds + 1 : 0;
     ++rounds_since_reset;
     if (jumped || (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&

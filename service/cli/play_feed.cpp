@@ -3,6 +3,7 @@
 #include "pipeline/shm_payloads.hpp"
 
 #include <polyloc/eval/stats.hpp>
+#include <polyloc/sim/simulator.hpp>  // toMsgPose
 
 #include <fmt/core.h>
 
@@ -67,6 +68,23 @@ void PlayFeed::send(const RecordedMessage& m, int64_t offset_ns, int64_t first_l
     const auto& o = p->pose.orientation;
     r_.truth.push_back({t + shift, Pose(Eigen::Quaterniond(o.w, o.x, o.y, o.z),
                                         Eigen::Vector3d(p->pose.position.x, p->pose.position.y, p->pose.position.z))});
+    return;
+  }
+  if (const auto* o = std::get_if<msg::Odometry>(&m.message)) {
+    // --loop: each pass's odometry starts again where the simulator starts it; moved onto where
+    // the last pass left it, the robot drives on without a jump (the route closes on itself).
+    const auto& q = o->pose.pose.orientation;
+    const auto& t = o->pose.pose.position;
+    const Pose odom(Eigen::Quaterniond(q.w, q.x, q.y, q.z), Eigen::Vector3d(t.x, t.y, t.z));
+    if (offset_ns != odom_offset_) {
+      odom_offset_ = offset_ns;
+      if (last_odom_) odom_fix_ = *last_odom_ * odom.inverse();
+    }
+    const Pose moved = odom_fix_ * odom;
+    last_odom_ = moved;
+    msg::Odometry copy = *o;
+    copy.pose.pose = toMsgPose(moved);
+    if (feed_->send(m.topic, m.log_time_ns - offset_ns, copy, shift) == pipeline::MessageFeed::Sent::NoChannel) ++r_.skipped[m.topic];
     return;
   }
   if (feed_->send(m.topic, m.log_time_ns - offset_ns, m.message, shift) == pipeline::MessageFeed::Sent::NoChannel) ++r_.skipped[m.topic];

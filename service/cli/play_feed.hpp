@@ -59,6 +59,9 @@ class PlayFeed {
   uint64_t sent_before_ = 0;  // by the feeds of earlier attachments
   std::map<std::string, uint64_t> per_channel_before_;
   int64_t base_ns_ = 0;
+  int64_t odom_offset_ = 0;       // --loop: the pass whose odometry odom_fix_ moves
+  Pose odom_fix_;                 // last pass's end * this pass's start^-1
+  std::optional<Pose> last_odom_;
   std::optional<polyloc_health> health_;
   PlayResult r_;
   std::vector<uint8_t> buf_;

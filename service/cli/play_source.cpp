@@ -78,9 +78,13 @@ class ScenarioSource final : public PlaySource {
  public:
   ScenarioSource(const std::string& path, double duration_s) : path_(path), queue_(20000) {
     Scenario s = loadScenario(path);
-    if (duration_s > 0) s.duration = duration_s;
-    Mesh map = loadScenarioMap(s);
-    sim_ = std::make_unique<Simulator>(std::move(s), std::move(map));
+    sim_ = std::make_unique<Simulator>(s, loadScenarioMap(s));
+    // Cut short, never lengthen: a scenario run past its route only stands still (--loop
+    // repeats the route instead).
+    if (duration_s > 0 && duration_s < sim_->duration()) {
+      s.duration = duration_s;
+      sim_ = std::make_unique<Simulator>(s, loadScenarioMap(s));
+    }
     thread_ = std::thread([this] {
       try {
         sim_->run(queue_);

@@ -20,7 +20,7 @@ class PlaySource {
 };
 
 std::unique_ptr<PlaySource> playRecording(const std::string& path);
-// duration_s > 0 cuts the scenario short.
+// duration_s > 0 cuts the scenario short (a longer one is not lengthened).
 std::unique_ptr<PlaySource> playScenario(const std::string& path, double duration_s);
 
 }  // namespace polyloc::cli

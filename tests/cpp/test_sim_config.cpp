@@ -131,7 +131,7 @@ TEST(SimConfig, BundledConfigsAndScenariosLoad) {
   EXPECT_EQ(lab.robot.kinematics, Kinematics::Differential);
   const PolylocConfig office = loadConfig(kSource + "/maps/config/office.yaml");
   EXPECT_EQ(office.rig.name, "taser");
-  for (const char* name : {"lab_tour", "office_patrol", "ramp_6dof", "crowd"}) {
+  for (const char* name : {"lab_tour", "office_patrol", "office_loop", "ramp_6dof", "crowd"}) {
     const Scenario s = loadScenario(kSource + "/maps/scenarios/" + name + ".yaml");
     EXPECT_FALSE(s.route.waypoints.empty()) << name;
     EXPECT_EQ(s.noise.sensors.size(), s.config.rig.size()) << name;

@@ -36,7 +36,7 @@ std::string runDump(const Scenario& s, const Mesh& map) {
 // Every 5 cm of every route, and at every stop in all headings, the robot's outline is free of
 // walls and furniture (moved chairs included) at body heights (the floor excluded).
 TEST(SimRun, BundledRoutesAreCollisionFree) {
-  for (const char* name : {"lab_tour", "office_patrol", "ramp_6dof", "crowd"}) {
+  for (const char* name : {"lab_tour", "office_patrol", "office_loop", "ramp_6dof", "crowd"}) {
     const Scenario s = bundled(name);
     Simulator sim(s, loadScenarioMap(s));
     const RobotSpec& robot = s.config.robot;
@@ -72,7 +72,7 @@ TEST(SimRun, BundledRoutesAreCollisionFree) {
 // People walk past and around the robot, never into it (their bodies reach 0.3 m from their
 // centre line with the arms swinging).
 TEST(SimRun, BundledPeopleKeepClearOfTheRobot) {
-  for (const char* name : {"lab_tour", "office_patrol", "ramp_6dof", "crowd"}) {
+  for (const char* name : {"lab_tour", "office_patrol", "office_loop", "ramp_6dof", "crowd"}) {
     const Scenario s = bundled(name);
     Simulator sim(s, loadScenarioMap(s));
     const double reach = s.config.robot.boundingRadius() + 0.3;
