@@ -50,9 +50,10 @@ struct BspCaster::Impl {
         const bsp::Node& n = tree.nodes[node];
         const float dist = n.nx * o.x() + n.ny * o.y() + n.nz * o.z() - n.d;
         const float denom = n.nx * d.x() + n.ny * d.y() + n.nz * d.z();
-        // Near side: the origin's; an origin on the plane looks where the ray goes.
+        // Near side: the origin's; an origin on the plane looks where the ray goes and never
+        // crosses it (t = 0 would otherwise send the window to the side it does not enter).
         const int near = dist > 0.f || (dist == 0.f && denom >= 0.f) ? 0 : 1;
-        if (denom != 0.f) {
+        if (denom != 0.f && dist != 0.f) {
           const float t = -dist / denom;
           if (t >= 0.f && t <= tmax) {
             if (t > tmin) {

@@ -107,6 +107,9 @@ TEST_F(BspRoom, WindowsAndInsideSolid) {
   Hit h = castOne(bsp, {2.1f, 0, 1}, {1, 0, 0});
   EXPECT_EQ(h.range, 0.f);
   EXPECT_TRUE(h.n.isApprox(Eigen::Vector3f(1, 0, 0), 1e-6));  // the back face it leaves by
+  // Origin on the floor surface: the side the ray goes into decides (up: the ceiling, down: solid).
+  EXPECT_NEAR(castOne(bsp, {0.3f, 0.2f, 0.f}, {0.1f, 0, 1}).range, std::sqrt(9.09), 1e-4);
+  EXPECT_EQ(castOne(bsp, {0.3f, 0.2f, 0.f}, {0.1f, 0, -1}).range, 0.f);
   bsp.options.backface_is_solid = false;
   EXPECT_NEAR(castOne(bsp, {2.1f, 0, 1}, {1, 0, 0}).range, 0.1, 1e-5);
   EXPECT_NEAR(castOne(bsp, {2.1f, 0, 1}, {-1, 0, 0}).range, 0.1, 1e-5);
