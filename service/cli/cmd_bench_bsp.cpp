@@ -53,11 +53,19 @@ Mesh keepLabels(const Mesh& in, const std::string& list) {
   for (std::string s; std::getline(ss, s, ',');) keep.push_back(s);
   Mesh out;
   out.source = in.source + " [" + list + "]";
+  std::vector<uint32_t> remap(in.numVertices(), UINT32_MAX);  // shared vertices stay shared
   for (size_t t = 0; t < in.numTriangles(); ++t) {
     if (std::find(keep.begin(), keep.end(), in.labelOf(t)) == keep.end()) continue;
-    const Triangle& tri = in.triangles[t];
-    out.addTriangle(in.vertices[tri[0]], in.vertices[tri[1]], in.vertices[tri[2]],
-                    out.labelId(in.labelOf(t)));
+    Triangle tri = in.triangles[t];
+    for (uint32_t& v : tri) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<uint32_t>(out.vertices.size());
+        out.vertices.push_back(in.vertices[v]);
+      }
+      v = remap[v];
+    }
+    out.triangles.push_back(tri);
+    out.triangle_label.push_back(out.labelId(in.labelOf(t)));
   }
   if (out.triangles.empty()) throw std::runtime_error("no triangle of " + in.source + " has a label in " + list);
   return out;
