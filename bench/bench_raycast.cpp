@@ -1,7 +1,9 @@
-// Google Benchmark suite for the ray caster on the bundled office map (about 10k triangles):
-// packets of 16 vs one rtcIntersect1 per ray, explicit SoA rays, windows, free-space queries.
+// Google Benchmark suite for the ray casters on the bundled office map (about 10k triangles):
+// Embree's packets of 16 vs one rtcIntersect1 per ray, windows, free-space queries; then the
+// solid-leaf BSP backend on the same rays.
 //   build/bin/bench_raycast --benchmark_counters_tabular=true
 #include <polyloc/map/load.hpp>
+#include <polyloc/raycast/bsp.hpp>
 #include <polyloc/raycast/embree.hpp>
 #include <polyloc/raycast/workload.hpp>
 
@@ -93,6 +95,52 @@ void BM_BuildScene(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(w.mesh.numTriangles());
 }
 BENCHMARK(BM_BuildScene)->Unit(benchmark::kMillisecond);
+
+// The BSP backend on the same poses and beams (its own caster, built on first use).
+BspCaster& bspCaster() {
+  static BspCaster c{workload().mesh};
+  return c;
+}
+
+void BM_BspScans(benchmark::State& state) {
+  Workload& w = workload();
+  BspCaster& bsp = bspCaster();
+  bsp.setThreads(static_cast<int>(state.range(0)));
+  const bool hit_info = state.range(1) != 0;
+  const size_t n = w.range.size();
+  std::vector<uint32_t> tri(n), label(n);
+  std::vector<float> nx(n), ny(n), nz(n);
+  const HitBuffers out = hit_info ? HitBuffers{w.range.data(), tri.data(), label.data(), nx.data(), ny.data(), nz.data()}
+                                  : HitBuffers{w.range.data()};
+  for (auto _ : state) bsp.castScans(w.poses, w.beams, out);
+  state.counters["rays_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+}
+// (threads, hit info): ranges only on 1 and 2 threads, then with triangle, label and normal.
+BENCHMARK(BM_BspScans)->Args({1, 0})->Args({2, 0})->Args({1, 1})->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void BM_BspFreeSpace(benchmark::State& state) {
+  Workload& w = workload();
+  BspCaster& bsp = bspCaster();
+  bsp.setThreads(1);
+  std::vector<Eigen::Vector3f> pts;
+  for (const Pose& p : w.poses) pts.push_back(p.translation().cast<float>());
+  std::vector<uint8_t> free(pts.size());
+  for (auto _ : state) bsp.queryFree(pts, static_cast<float>(state.range(0)) / 100.f, free.data());
+  state.counters["queries_per_s"] =
+      benchmark::Counter(static_cast<double>(pts.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_BspFreeSpace)->Arg(0)->Arg(30)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void BM_BspBuild(benchmark::State& state) {
+  Workload& w = workload();
+  BspOptions opt;
+  opt.max_candidates = static_cast<size_t>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(std::make_unique<BspCaster>(w.mesh, opt));
+  state.counters["triangles"] = static_cast<double>(w.mesh.numTriangles());
+}
+// max_candidates: 0 (all planes, the default) and a sample of 64.
+BENCHMARK(BM_BspBuild)->Arg(0)->Arg(64)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -1,10 +1,8 @@
 #include <polyloc/geometry/closest_point.hpp>
+#include <polyloc/raycast/cast_arena.hpp>
 #include <polyloc/raycast/embree.hpp>
 
 #include <embree3/rtcore.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -53,8 +51,7 @@ struct EmbreeCaster::Impl {
   RTCScene scene = nullptr;
   Mesh mesh;  // copy: labels, normals and vertices for results and clearance queries
   std::vector<float> nx, ny, nz;
-  std::unique_ptr<tbb::task_arena> arena;
-  int threads = 0;
+  CastArena pool;
 
   // Writes one ray's result; `dir` is the unit direction, `t0`/`t1` the window.
   void finish(const HitBuffers& out, size_t i, float tfar, unsigned prim, float dx, float dy,
@@ -75,14 +72,6 @@ struct EmbreeCaster::Impl {
       out.ny[i] = ny[prim];
       out.nz[i] = nz[prim];
     }
-  }
-
-  template <class F>
-  void parallel(size_t n, size_t grain, F&& body) const {
-    arena->execute([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
-                        [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
-    });
   }
 };
 
@@ -138,12 +127,9 @@ EmbreeCaster::~EmbreeCaster() {
   if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
-void EmbreeCaster::setThreads(int threads) {
-  impl_->threads = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
-  impl_->arena = std::make_unique<tbb::task_arena>(impl_->threads);
-}
+void EmbreeCaster::setThreads(int threads) { impl_->pool.resize(threads); }
 
-int EmbreeCaster::threads() const { return impl_->threads; }
+int EmbreeCaster::threads() const { return impl_->pool.threads(); }
 
 void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
                              const HitBuffers& out, const ScanWindow& window) const {
@@ -151,7 +137,7 @@ void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
   const size_t nb = beams.size();
   if (nb == 0 || poses.empty()) return;
   const CastOptions opt = options;
-  m.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
+  m.pool.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // the beams of one pose share an origin
@@ -199,7 +185,7 @@ void EmbreeCaster::castScansSingle(std::span<const Pose> poses, const BeamSet& b
   const size_t nb = beams.size();
   const CastOptions opt = options;
   const HitBuffers out{range};
-  m.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
+  m.pool.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -225,7 +211,7 @@ void EmbreeCaster::castRays(const RayBatch& rays, const HitBuffers& out) const {
   const Impl& m = *impl_;
   const CastOptions opt = options;
   const size_t npk = (rays.count + kPacket - 1) / kPacket;
-  m.parallel(npk, 64, [&](size_t q0, size_t q1) {
+  m.pool.parallel(npk, 64, [&](size_t q0, size_t q1) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     alignas(64) RTCRayHit16 rh;
@@ -264,7 +250,7 @@ void EmbreeCaster::castRays(const RayBatch& rays, const HitBuffers& out) const {
 void EmbreeCaster::queryFree(std::span<const Eigen::Vector3f> points, float clearance,
                              uint8_t* free) const {
   const Impl& m = *impl_;
-  m.parallel(points.size(), 64, [&](size_t i0, size_t i1) {
+  m.pool.parallel(points.size(), 64, [&](size_t i0, size_t i1) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCPointQueryContext pctx;

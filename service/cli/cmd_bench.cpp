@@ -133,6 +133,7 @@ void registerBench(CLI::App& app) {
   rc.callback([args] { runBenchRaycast(*args); });
   registerBenchMcl(bench);
   registerBenchIpc(bench);
+  registerBenchBsp(bench);
 }
 
 }  // namespace polyloc::cli

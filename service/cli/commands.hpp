@@ -15,6 +15,7 @@ void registerSimulate(CLI::App& app);     // polyloc simulate ...       (cmd_sim
 void registerLocalize(CLI::App& app);     // polyloc localize ...       (cmd_localize.cpp)
 void registerBenchMcl(CLI::App& bench);   // polyloc bench mcl ...      (cmd_bench_mcl.cpp)
 void registerBenchIpc(CLI::App& bench);   // polyloc bench ipc ...      (cmd_bench_ipc.cpp)
+void registerBenchBsp(CLI::App& bench);   // polyloc bench bsp ...      (cmd_bench_bsp.cpp)
 void registerEval(CLI::App& app);         // polyloc eval global|kidnap|tracking|depth (cmd_eval.cpp)
 void registerEvalTracking(CLI::App& eval); // polyloc eval tracking ...  (cmd_eval_tracking.cpp)
 void registerPerceive(CLI::App& app);     // polyloc perceive ...       (cmd_perceive.cpp)

@@ -1,0 +1,36 @@
+// The worker pool of a ray-casting backend: a TBB arena of the configured size and the one
+// parallel loop shape the batch calls use (chunks of [begin, end) over rays or poses).
+#pragma once
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <memory>
+
+namespace polyloc {
+
+class CastArena {
+ public:
+  explicit CastArena(int threads = 0) { resize(threads); }
+  // 0 = all cores.
+  void resize(int threads) {
+    threads_ = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
+    arena_ = std::make_unique<tbb::task_arena>(threads_);
+  }
+  int threads() const { return threads_; }
+  // body(begin, end) over [0, n) in chunks of at least `grain`.
+  template <class F>
+  void parallel(size_t n, size_t grain, F&& body) const {
+    arena_->execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
+                        [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+    });
+  }
+
+ private:
+  std::unique_ptr<tbb::task_arena> arena_;
+  int threads_ = 0;
+};
+
+}  // namespace polyloc
