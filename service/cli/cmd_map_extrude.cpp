@@ -35,7 +35,7 @@ void run(const MapExtrudeArgs& a) {
   if (auto dir = std::filesystem::path(a.out).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
   saveMesh(mesh, a.out);
   nlohmann::json j{{"grid", a.grid},          {"out", a.out},
-                   {"width", grid.width},     {"height", grid.height},
+                   {"cells_x", grid.width},   {"cells_y", grid.height},
                    {"resolution_m", grid.resolution}, {"occupied_cells", st.occupied_cells},
                    {"boxes", st.boxes},       {"triangles", mesh.numTriangles()},
                    {"wall_height_m", o.height}, {"closed", r.closed()},
