@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace polyloc::cli {
 namespace {
@@ -32,7 +33,14 @@ nlohmann::json benchLocalize(const std::string& backend, const CasterOptions& op
   Scenario scenario = loadScenario(a.scenario);
   if (a.duration > 0) scenario.duration = a.duration;
   Mesh map = loadScenarioMap(scenario);  // the static map, before the simulator moves chairs
-  const std::unique_ptr<RayCaster> caster = makeCaster(backend, map, options);
+  // A 2D grid must be sliced where the level scanners scan (lisa: 0.10 m), not at a default.
+  CasterOptions co = options;
+  double level_z = std::numeric_limits<double>::infinity();
+  for (const Sensor& sensor : scenario.config.rig.sensors)
+    if (std::abs(sensor.mount.pitch()) < 0.02 && std::abs(sensor.mount.roll()) < 0.02)
+      level_z = std::min(level_z, sensor.mount.z());
+  if (std::isfinite(level_z)) co.height = level_z;
+  const std::unique_ptr<RayCaster> caster = makeCaster(backend, map, co);
   MclConfig cfg = scenario.config.mcl;
   if (a.particles > 0) cfg.particles = cfg.min_particles = cfg.max_particles = a.particles;
   cfg.threads = options.threads;
@@ -74,6 +82,7 @@ nlohmann::json benchLocalize(const std::string& backend, const CasterOptions& op
   for (double v : yerr) ym += v;
   const double n = std::max<double>(1, double(terr.size()));
   return {{"scenario", a.scenario},
+          {"slice_height_m", co.height},
           {"sim_duration_s", s.sim_duration_s},
           {"particles", cfg.particles},
           {"updates", updates},

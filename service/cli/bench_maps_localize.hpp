@@ -1,6 +1,7 @@
 // The localisation part of `polyloc bench maps`: a scenario simulated (sensors from the exact
 // Embree caster of the simulator) while a Localizer weighs its particles with the backend under
-// test, started at the true pose; accuracy of the estimates and speed of the localiser.
+// test, started at the true pose; accuracy of the estimates and speed of the localiser. grid2d
+// is sliced at the height of the rig's lowest level (unpitched) sensor.
 #pragma once
 
 #include <polyloc/raycast/factory.hpp>

@@ -74,7 +74,7 @@ struct Results {
   std::vector<uint8_t> inside;
 };
 
-// |r - ref| over rays where both hit: mean, p99; and the fraction whose hit/miss differs.
+// |r - ref| over rays where both hit: mean, median, p99; and the fraction whose hit/miss differs.
 void rangeError(const std::vector<float>& r, const std::vector<float>& ref, nlohmann::json& j,
                 const std::string& prefix) {
   std::vector<double> e;
@@ -88,6 +88,7 @@ void rangeError(const std::vector<float>& r, const std::vector<float>& ref, nloh
   double mean = 0;
   for (double v : e) mean += v;
   j[prefix + "mean_m"] = e.empty() ? 0.0 : mean / double(e.size());
+  j[prefix + "median_m"] = e.empty() ? 0.0 : e[e.size() / 2];  // the mean is a tail's: near misses
   j[prefix + "p99_m"] = e.empty() ? 0.0 : e[std::min(e.size() - 1, size_t(0.99 * double(e.size())))];
   j[prefix + "hit_disagreement"] = r.empty() ? 0.0 : double(disagree) / double(r.size());
 }
@@ -121,14 +122,15 @@ nlohmann::json benchOne(const std::string& name, const Mesh& mesh, const Workloa
 
 std::string markdownTable(const nlohmann::json& j) {
   std::ostringstream s;
-  s << "| backend | build s | memory MB | planar rays/s | 3D rays/s | point queries/s | range err mean m | range err p99 m | 3D err mean m | 3D err p99 m |\n"
-    << "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+  s << "| backend | build s | memory MB | planar rays/s | 3D rays/s | point queries/s | range err mean m | median m | p99 m | 3D err mean m | median m | p99 m |\n"
+    << "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
   for (const auto& [name, b] : j["backends"].items())
-    s << fmt::format("| {} | {:.3f} | {:.1f} | {:.3g} | {:.3g} | {:.3g} | {:.4f} | {:.4f} | {:.4f} | {:.4f} |\n", name,
+    s << fmt::format("| {} | {:.3f} | {:.1f} | {:.3g} | {:.3g} | {:.3g} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} |\n", name,
                      b["build_s"].get<double>(), b["memory_mb"].get<double>(),
                      b["rays_per_s_planar"].get<double>(), b["rays_per_s_3d"].get<double>(),
                      b["point_queries_per_s"].get<double>(), b["range_err_mean_m"].get<double>(),
-                     b["range_err_p99_m"].get<double>(), b["range_err_3d_mean_m"].get<double>(),
+                     b["range_err_median_m"].get<double>(), b["range_err_p99_m"].get<double>(),
+                     b["range_err_3d_mean_m"].get<double>(), b["range_err_3d_median_m"].get<double>(),
                      b["range_err_3d_p99_m"].get<double>());
   bool loc = false;
   for (const auto& [name, b] : j["backends"].items()) loc = loc || b.contains("localize");
