@@ -11,7 +11,7 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libeigen3-dev libembree-dev libtbb-dev libassimp-dev libyaml-cpp-dev \
   libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev \
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev \
-  libfastcdr-dev libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev \
+  libfastcdr-dev liboctomap-dev libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   clang libclang-rt-14-dev \
   pybind11-dev python3-dev python3-numpy python3-pytest

@@ -1,5 +1,6 @@
 // polyloc bench raycast: rays/s of the Embree batch caster on a map, against a plain loop of one
 // rtcIntersect1 per ray over the same rays in the same run, and against one thread.
+#include "cli/bench_timing.hpp"
 #include "cli/commands.hpp"
 
 #include <polyloc/map/load.hpp>
@@ -29,19 +30,6 @@ struct BenchRaycastArgs {
   bool json = false;
 };
 
-double seconds(const std::function<void()>& f) {
-  const auto t0 = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// Best of `repeat` runs: the machine is shared, the minimum is the least disturbed figure.
-double bestRaysPerSecond(int repeat, double rays, const std::function<void()>& f) {
-  double best = 0;
-  for (int i = 0; i < repeat; ++i) best = std::max(best, rays / seconds(f));
-  return best;
-}
-
 void runBenchRaycast(const BenchRaycastArgs& a) {
   Mesh mesh = loadMesh(a.map);
   std::unique_ptr<EmbreeCaster> caster;
@@ -60,13 +48,13 @@ void runBenchRaycast(const BenchRaycastArgs& a) {
   // Interleave the two so that load from other processes hits both alike.
   double packet_best = 0, single_best = 0;
   for (int i = 0; i < a.repeat; ++i) {
-    packet_best = std::max(packet_best, bestRaysPerSecond(1, rays, packet));
-    single_best = std::max(single_best, bestRaysPerSecond(1, rays, loop1));
+    packet_best = std::max(packet_best, bestRate(1, rays, packet));
+    single_best = std::max(single_best, bestRate(1, rays, loop1));
   }
   double one_thread = packet_best;
   if (caster->threads() != 1) {
     caster->setThreads(1);
-    one_thread = bestRaysPerSecond(std::max(1, a.repeat / 2), rays, packet);
+    one_thread = bestRate(std::max(1, a.repeat / 2), rays, packet);
     caster->setThreads(a.threads);
   }
 
@@ -134,6 +122,7 @@ void registerBench(CLI::App& app) {
   registerBenchMcl(bench);
   registerBenchIpc(bench);
   registerBenchBsp(bench);
+  registerBenchMaps(bench);
 }
 
 }  // namespace polyloc::cli

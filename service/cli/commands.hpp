@@ -8,6 +8,7 @@ namespace polyloc::cli {
 
 void registerMapInfo(CLI::App& map);      // polyloc map info FILE      (cmd_map_info.cpp)
 void registerMapGenerate(CLI::App& map);  // polyloc map generate ...   (cmd_map_generate.cpp)
+void registerMapExtrude(CLI::App& map);   // polyloc map extrude ...    (cmd_map_extrude.cpp)
 void registerBench(CLI::App& app);        // polyloc bench raycast ...  (cmd_bench.cpp)
 void registerDemo(CLI::App& app);         // polyloc demo ...           (cmd_demo.cpp)
 void registerInfo(CLI::App& app);         // polyloc info FILE          (cmd_info.cpp)
@@ -16,6 +17,7 @@ void registerLocalize(CLI::App& app);     // polyloc localize ...       (cmd_loc
 void registerBenchMcl(CLI::App& bench);   // polyloc bench mcl ...      (cmd_bench_mcl.cpp)
 void registerBenchIpc(CLI::App& bench);   // polyloc bench ipc ...      (cmd_bench_ipc.cpp)
 void registerBenchBsp(CLI::App& bench);   // polyloc bench bsp ...      (cmd_bench_bsp.cpp)
+void registerBenchMaps(CLI::App& bench);  // polyloc bench maps ...     (cmd_bench_maps.cpp)
 void registerEval(CLI::App& app);         // polyloc eval global|kidnap|tracking|depth (cmd_eval.cpp)
 void registerEvalTracking(CLI::App& eval); // polyloc eval tracking ...  (cmd_eval_tracking.cpp)
 void registerPerceive(CLI::App& app);     // polyloc perceive ...       (cmd_perceive.cpp)

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   map.require_subcommand(1);
   polyloc::cli::registerMapInfo(map);
   polyloc::cli::registerMapGenerate(map);
+  polyloc::cli::registerMapExtrude(map);
   polyloc::cli::registerBench(app);
   polyloc::cli::registerDemo(app);
   polyloc::cli::registerInfo(app);

@@ -1,0 +1,55 @@
+#include <polyloc/raycast/distance3d.hpp>
+#include <polyloc/raycast/embree.hpp>
+#include <polyloc/raycast/factory.hpp>
+#include <polyloc/raycast/grid2d.hpp>
+#include <polyloc/raycast/octomap.hpp>
+
+#include <stdexcept>
+
+namespace polyloc {
+
+const std::vector<std::string>& casterNames() {
+  // bsp: add "bsp" here and a branch in makeCaster when raycast/bsp.hpp lands.
+  static const std::vector<std::string> names{"embree", "grid2d", "distance3d", "octomap"};
+  return names;
+}
+
+std::unique_ptr<RayCaster> makeCaster(const std::string& name, const Mesh& mesh,
+                                      const CasterOptions& o) {
+  if (name == "embree") {
+    EmbreeOptions e;
+    e.threads = o.threads;
+    return std::make_unique<EmbreeCaster>(mesh, e);
+  }
+  if (name == "grid2d") {
+    Grid2dOptions g;
+    g.resolution = o.resolution;
+    g.height = o.height;
+    g.threads = o.threads;
+    return std::make_unique<Grid2dCaster>(mesh, g);
+  }
+  if (name == "distance3d") {
+    Distance3dOptions d;
+    d.field.resolution = o.resolution;
+    d.threads = o.threads;
+    return std::make_unique<Distance3dCaster>(mesh, d);
+  }
+  if (name == "octomap") {
+    OctomapOptions t;
+    t.resolution = o.resolution;
+    t.threads = o.threads;
+    return std::make_unique<OctomapCaster>(mesh, t);
+  }
+  std::string known;
+  for (const std::string& n : casterNames()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown ray caster '" + name + "' (known: " + known + ")");
+}
+
+size_t casterMemoryBytes(const RayCaster& c) {
+  if (const auto* g = dynamic_cast<const Grid2dCaster*>(&c)) return g->memoryBytes();
+  if (const auto* d = dynamic_cast<const Distance3dCaster*>(&c)) return d->memoryBytes();
+  if (const auto* t = dynamic_cast<const OctomapCaster*>(&c)) return t->memoryBytes();
+  return 0;
+}
+
+}  // namespace polyloc

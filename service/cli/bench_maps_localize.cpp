@@ -1,0 +1,97 @@
+#include "cli/bench_maps_localize.hpp"
+
+#include <polyloc/io/recording.hpp>
+#include <polyloc/mcl/localizer.hpp>
+#include <polyloc/sim/scenario.hpp>
+#include <polyloc/sim/simulator.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace polyloc::cli {
+namespace {
+
+class DiscardWriter final : public RecordingWriter {  // the bench needs the hooks, not a file
+ public:
+  void write(const std::string&, int64_t, const msg::Message&) override {}
+  void close() override {}
+};
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
+}
+
+}  // namespace
+
+nlohmann::json benchLocalize(const std::string& backend, const CasterOptions& options,
+                             const BenchLocalizeArgs& a) {
+  using Clock = std::chrono::steady_clock;
+  Scenario scenario = loadScenario(a.scenario);
+  if (a.duration > 0) scenario.duration = a.duration;
+  Mesh map = loadScenarioMap(scenario);  // the static map, before the simulator moves chairs
+  // A 2D grid must be sliced where the level scanners scan (lisa: 0.10 m), not at a default.
+  CasterOptions co = options;
+  double level_z = std::numeric_limits<double>::infinity();
+  for (const Sensor& sensor : scenario.config.rig.sensors)
+    if (std::abs(sensor.mount.pitch()) < 0.02 && std::abs(sensor.mount.roll()) < 0.02)
+      level_z = std::min(level_z, sensor.mount.z());
+  if (std::isfinite(level_z)) co.height = level_z;
+  const std::unique_ptr<RayCaster> caster = makeCaster(backend, map, co);
+  MclConfig cfg = scenario.config.mcl;
+  if (a.particles > 0) cfg.particles = cfg.min_particles = cfg.max_particles = a.particles;
+  cfg.threads = options.threads;
+  Simulator sim(scenario, map);
+  Localizer loc(*caster, map, scenario.config.rig, cfg);
+
+  bool started = false;
+  double loc_s = 0;
+  size_t updates = 0;
+  std::vector<double> terr, yerr;
+  SimHooks hooks;
+  hooks.on_tick = [&](int64_t stamp, const Pose& gt, const Pose& odom) {
+    const auto t0 = Clock::now();
+    if (!started) {
+      Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
+      cov(0, 0) = cov(1, 1) = 0.1 * 0.1, cov(5, 5) = 0.05 * 0.05;
+      cov(2, 2) = cov(3, 3) = cov(4, 4) = 1e-4;
+      loc.initPose(gt, cov, stamp);
+      started = true;
+    }
+    loc.addOdometry(stamp, odom);
+    loc_s += std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  hooks.on_frame = [&](const SimFrame& f) {
+    if (!started) return;
+    const auto t0 = Clock::now();
+    const bool updated = loc.addScan(f.sensor, f.stamp_ns, f.measured);
+    loc_s += std::chrono::duration<double>(Clock::now() - t0).count();
+    if (!updated) return;
+    ++updates;
+    const MclEstimate e = loc.estimate();
+    terr.push_back(std::hypot(e.pose.x() - f.map_T_base.x(), e.pose.y() - f.map_T_base.y()));
+    yerr.push_back(std::abs(rad2deg(angleDiff(e.pose.yaw(), f.map_T_base.yaw()))));
+  };
+  DiscardWriter out;
+  const SimSummary s = sim.run(out, hooks);
+  double tm = 0, ym = 0;
+  for (double v : terr) tm += v;
+  for (double v : yerr) ym += v;
+  const double n = std::max<double>(1, double(terr.size()));
+  return {{"scenario", a.scenario},
+          {"slice_height_m", co.height},
+          {"sim_duration_s", s.sim_duration_s},
+          {"particles", cfg.particles},
+          {"updates", updates},
+          {"localizer_s", loc_s},
+          {"updates_per_s", loc_s > 0 ? double(updates) / loc_s : 0.0},
+          {"trans_err_mean_m", tm / n},
+          {"trans_err_p95_m", percentile(terr, 0.95)},
+          {"yaw_err_mean_deg", ym / n},
+          {"final_status", toString(loc.estimate().status)}};
+}
+
+}  // namespace polyloc::cli
