@@ -1,3 +1,4 @@
+#include <polyloc/raycast/bsp.hpp>
 #include <polyloc/raycast/distance3d.hpp>
 #include <polyloc/raycast/embree.hpp>
 #include <polyloc/raycast/factory.hpp>
@@ -9,8 +10,7 @@
 namespace polyloc {
 
 const std::vector<std::string>& casterNames() {
-  // bsp: add "bsp" here and a branch in makeCaster when raycast/bsp.hpp lands.
-  static const std::vector<std::string> names{"embree", "grid2d", "distance3d", "octomap"};
+  static const std::vector<std::string> names{"embree", "bsp", "grid2d", "distance3d", "octomap"};
   return names;
 }
 
@@ -20,6 +20,11 @@ std::unique_ptr<RayCaster> makeCaster(const std::string& name, const Mesh& mesh,
     EmbreeOptions e;
     e.threads = o.threads;
     return std::make_unique<EmbreeCaster>(mesh, e);
+  }
+  if (name == "bsp") {
+    BspOptions b;
+    b.threads = o.threads;
+    return std::make_unique<BspCaster>(mesh, b);
   }
   if (name == "grid2d") {
     Grid2dOptions g;
@@ -46,6 +51,7 @@ std::unique_ptr<RayCaster> makeCaster(const std::string& name, const Mesh& mesh,
 }
 
 size_t casterMemoryBytes(const RayCaster& c) {
+  if (const auto* b = dynamic_cast<const BspCaster*>(&c)) return b->stats().node_bytes + b->stats().triangle_ref_bytes;
   if (const auto* g = dynamic_cast<const Grid2dCaster*>(&c)) return g->memoryBytes();
   if (const auto* d = dynamic_cast<const Distance3dCaster*>(&c)) return d->memoryBytes();
   if (const auto* t = dynamic_cast<const OctomapCaster*>(&c)) return t->memoryBytes();
