@@ -79,10 +79,12 @@ struct EmbreeCaster::Impl {
 
   template <class F>
   void parallel(size_t n, size_t grain, F&& body) const {
-    arena->execute([&] {
+    auto loop = [&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
                         [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
-    });
+    };
+    if (arena) arena->execute(loop);
+    else loop();  // threads < 0: in the caller's arena
   }
 };
 
@@ -139,11 +141,18 @@ EmbreeCaster::~EmbreeCaster() {
 }
 
 void EmbreeCaster::setThreads(int threads) {
+  if (threads < 0) {  // the caller's arena: several recordings share one (polyloc relocalize)
+    impl_->threads = -1;
+    impl_->arena.reset();
+    return;
+  }
   impl_->threads = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
   impl_->arena = std::make_unique<tbb::task_arena>(impl_->threads);
 }
 
-int EmbreeCaster::threads() const { return impl_->threads; }
+int EmbreeCaster::threads() const {
+  return impl_->threads > 0 ? impl_->threads : tbb::this_task_arena::max_concurrency();
+}
 
 void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
                              const HitBuffers& out, const ScanWindow& window) const {
