@@ -106,7 +106,7 @@ void runPlay(const PlayArgs& a) {
   j["wall_s"] = std::chrono::duration<double>(Clock::now() - t0).count();
   if (metrics) {
     j["accuracy"] = reloc::summaryJson(metrics->all);
-    j["converged_after_s"] = metrics->converged_after_s ? num(*metrics->converged_after_s) : nlohmann::json(nullptr);
+    j["converged_after_s"] = metrics->converged_after_s ? reloc::num(*metrics->converged_after_s) : nlohmann::json(nullptr);
   }
   if (!a.plot.empty()) j["plot"] = a.plot;
   if (a.json) fmt::print("{}\n", j.dump());
