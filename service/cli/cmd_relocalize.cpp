@@ -72,9 +72,12 @@ void runRelocalize(RelocalizeArgs& a) {
     outcomes = reloc::failedTasks(mine, rank, fmt::format("rank {}: {}", rank, e.what()));
   }
   progress.close();
-  for (const auto& oc : outcomes)
+  for (const auto& oc : outcomes) {  // warnings of the job and of the reader (bad records)
+    const std::string& input = plan.tasks[oc.task].job.input;
     for (const auto& line : oc.log)
-      if (line.rfind("warning", 0) == 0) progress.message(fmt::format("polyloc relocalize: {}: {}", plan.tasks[oc.task].job.input, line));
+      if (line.rfind("warning", 0) == 0) progress.message(fmt::format("polyloc relocalize: {}: {}", input, line));
+    for (const auto& w : oc.result.warnings) progress.message(fmt::format("polyloc relocalize: warning: {}", w));
+  }
 
   const std::vector<std::string> gathered = cluster->gather(reloc::encodeOutcomes(outcomes));
   if (rank != 0) return;
