@@ -99,7 +99,8 @@ nlohmann::json writeBatch(const Mesh& mesh, const BatchOptions& o, const Plan& p
     std::filesystem::create_directories(sub);
     writeTum((sub / "trajectory.tum").string(), r.frames);
     writeCsv((sub / "frames.csv").string(), mp, r.frames, o.covariance);
-    drawPlot(mesh, r, mp, (sub / "plot.png").string());
+    const std::string cmd = segments > 1 ? fmt::format("polyloc relocalize, {} segments:", segments) : "polyloc relocalize";
+    drawPlot(mesh, r, mp, (sub / "plot.png").string(), cmd);
     nlohmann::json s = resultJson(r, mp);
     s["name"] = plan.names[i];
     s["status"] = errors.empty() ? "ok" : "partial";

@@ -31,8 +31,8 @@ std::vector<TaskOutcome> runTasks(const JobContext& ctx, const Plan& plan, std::
         o.ok = true;
       } catch (const std::exception& e) {
         o.error = e.what();
-        progress.message(fmt::format("polyloc relocalize: {} (segment {}/{}) failed: {}", t.job.input, t.segment + 1,
-                                     t.segments, o.error));
+        const std::string seg = t.segments > 1 ? fmt::format(" (segment {}/{})", t.segment + 1, t.segments) : "";
+        progress.message(fmt::format("polyloc relocalize: {}{} failed: {}", t.job.input, seg, o.error));
       }
       progress.finish(k);
     }

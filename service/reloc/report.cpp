@@ -118,12 +118,13 @@ nlohmann::json resultJson(const JobResult& r, const TrajectoryMetrics* metrics) 
   return j;
 }
 
-void drawPlot(const Mesh& mesh, const JobResult& r, const TrajectoryMetrics* metrics, const std::string& png_path) {
+void drawPlot(const Mesh& mesh, const JobResult& r, const TrajectoryMetrics* metrics, const std::string& png_path,
+              const std::string& command) {
   viz::LocalizePlotData plot = r.plot;
   for (const auto& p : r.truth)
     if (isFinite(p.pose)) plot.truth_path.emplace_back(float(p.pose.x()), float(p.pose.y()));
   const double ups = r.filter_s > 0 ? double(r.updates) / r.filter_s : 0.0;
-  plot.title = fmt::format("polyloc localize {} ({}, {} updates, {:.1f} updates/s)",
+  plot.title = fmt::format("{} {} ({}, {} updates, {:.1f} updates/s)", command,
                            std::filesystem::path(r.input).filename().string(), r.init_mode, r.updates, ups);
   if (metrics) {
     const auto& s = metrics->all;

@@ -36,7 +36,8 @@ std::optional<TrajectoryMetrics> evaluate(const JobResult& r);
 // counters and, with metrics, ground_truth and the accuracy keys).
 nlohmann::json resultJson(const JobResult& r, const TrajectoryMetrics* metrics);
 
-// Map, ground truth, estimate and clouds as PNG; the title names the input and the start.
-void drawPlot(const Mesh& mesh, const JobResult& r, const TrajectoryMetrics* metrics, const std::string& png_path);
+// Map, ground truth, estimate and clouds as PNG; the title names the command, the input and the start.
+void drawPlot(const Mesh& mesh, const JobResult& r, const TrajectoryMetrics* metrics, const std::string& png_path,
+              const std::string& command = "polyloc localize");
 
 }  // namespace polyloc::reloc
