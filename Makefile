@@ -13,6 +13,7 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev \
   libfastcdr-dev liboctomap-dev libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
+  libopenmpi-dev openmpi-bin \
   clang libclang-rt-14-dev \
   pybind11-dev python3-dev python3-numpy python3-pytest
 

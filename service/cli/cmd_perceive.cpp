@@ -5,7 +5,7 @@
 // /tracks as polyloc_msgs/TrackArray in map), PNG snapshots, and with the simulator's ground-truth
 // topics scores VRS and tracking (docs/vrs.md, docs/tracking.md).
 #include "cli/commands.hpp"
-#include "cli/localize_topics.hpp"
+#include "reloc/topic_router.hpp"
 #include "viz/topview.hpp"
 
 #include <polyloc/config/polyloc_config.hpp>
@@ -131,7 +131,7 @@ void runPerceive(const PerceiveArgs& a) {
   const PolylocConfig cfg = loadConfig(a.config);
   const Mesh map = loadMesh(cfg.map.file, cfg.map.load);
   std::filesystem::create_directories(a.out);
-  TopicRouter router(cfg.rig, std::vector<bool>(cfg.rig.size(), true));
+  reloc::TopicRouter router(cfg.rig, std::vector<bool>(cfg.rig.size(), true));
   VrsConfig vcfg = cfg.vrs;
   VirtualRangeScanner vrs(cfg.rig, cfg.robot, vcfg, a.pose == "ground_truth" ? &map : nullptr);
   PeopleTracker people(cfg.rig, cfg.tracking);
@@ -250,8 +250,8 @@ void runPerceive(const PerceiveArgs& a) {
       }
       continue;
     }
-    const TopicRouter::Result r = router.route(m.topic, m.log_time_ns, m.message, ranges);
-    if (r.kind != TopicRouter::Kind::Frame) continue;
+    const reloc::TopicRouter::Result r = router.route(m.topic, m.log_time_ns, m.message, ranges);
+    if (r.kind != reloc::TopicRouter::Kind::Frame) continue;
     if (!pose) {
       ++no_pose;
       continue;

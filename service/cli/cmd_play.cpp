@@ -4,7 +4,7 @@
 // truth the source carries), latency from scan to pose, rates, and what polylocd dropped or
 // rejected. Status on stderr; a summary (--json) on stdout; --plot draws the trajectories.
 #include "cli/commands.hpp"
-#include "cli/localize_report.hpp"
+#include "reloc/report.hpp"
 #include "cli/play_feed.hpp"
 #include "cli/play_source.hpp"
 #include "viz/localize_plot.hpp"
@@ -105,8 +105,8 @@ void runPlay(const PlayArgs& a) {
   j["passes"] = passes;
   j["wall_s"] = std::chrono::duration<double>(Clock::now() - t0).count();
   if (metrics) {
-    j["accuracy"] = summaryJson(metrics->all);
-    j["converged_after_s"] = metrics->converged_after_s ? num(*metrics->converged_after_s) : nlohmann::json(nullptr);
+    j["accuracy"] = reloc::summaryJson(metrics->all);
+    j["converged_after_s"] = metrics->converged_after_s ? reloc::num(*metrics->converged_after_s) : nlohmann::json(nullptr);
   }
   if (!a.plot.empty()) j["plot"] = a.plot;
   if (a.json) fmt::print("{}\n", j.dump());

@@ -14,6 +14,7 @@ void registerDemo(CLI::App& app);         // polyloc demo ...           (cmd_dem
 void registerInfo(CLI::App& app);         // polyloc info FILE          (cmd_info.cpp)
 void registerSimulate(CLI::App& app);     // polyloc simulate ...       (cmd_simulate.cpp)
 void registerLocalize(CLI::App& app);     // polyloc localize ...       (cmd_localize.cpp)
+void registerRelocalize(CLI::App& app);   // polyloc relocalize ...     (cmd_relocalize.cpp)
 void registerBenchMcl(CLI::App& bench);   // polyloc bench mcl ...      (cmd_bench_mcl.cpp)
 void registerBenchIpc(CLI::App& bench);   // polyloc bench ipc ...      (cmd_bench_ipc.cpp)
 void registerBenchBsp(CLI::App& bench);   // polyloc bench bsp ...      (cmd_bench_bsp.cpp)

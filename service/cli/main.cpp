@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   polyloc::cli::registerInfo(app);
   polyloc::cli::registerSimulate(app);
   polyloc::cli::registerLocalize(app);
+  polyloc::cli::registerRelocalize(app);
   polyloc::cli::registerEval(app);
   polyloc::cli::registerPerceive(app);
   polyloc::cli::registerPlay(app);

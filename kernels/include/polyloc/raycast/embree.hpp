@@ -11,7 +11,8 @@
 namespace polyloc {
 
 struct EmbreeOptions {
-  int threads = 0;               // 0 = all cores
+  int threads = 0;               // 0 = all cores; < 0 = no arena of its own: the caller's
+                                 // (batch relocalisation runs many recordings in one arena)
   bool robust = true;            // watertight traversal: no rays slip through shared edges
   bool high_quality_bvh = true;  // slower build (SAH with spatial splits), faster rays
   std::string device_config;     // passed to rtcNewDevice, e.g. "verbose=1" or "isa=avx2"

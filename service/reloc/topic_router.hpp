@@ -14,7 +14,7 @@
 #include <unordered_map>
 #include <vector>
 
-namespace polyloc::cli {
+namespace polyloc::reloc {
 
 class TopicRouter {
  public:
@@ -43,4 +43,4 @@ class TopicRouter {
   mutable std::unordered_map<std::string, int> scan_cache_, depth_cache_;
 };
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::reloc

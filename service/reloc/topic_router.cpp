@@ -1,4 +1,4 @@
-#include "cli/localize_topics.hpp"
+#include "reloc/topic_router.hpp"
 
 #include <fmt/core.h>
 
@@ -6,7 +6,7 @@
 #include <cstring>
 #include <limits>
 
-namespace polyloc::cli {
+namespace polyloc::reloc {
 
 TopicRouter::TopicRouter(const Rig& rig, std::vector<bool> enabled) : rig_(rig), enabled_(std::move(enabled)) {
   enabled_.resize(rig.size(), true);
@@ -99,4 +99,4 @@ TopicRouter::Result TopicRouter::route(const std::string& topic, int64_t log_tim
   return r;
 }
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::reloc

@@ -1,0 +1,216 @@
+#include "reloc/recording_job.hpp"
+
+#include <polyloc/io/recording.hpp>
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace polyloc::reloc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Pose poseOf(const msg::Pose& p) {
+  const auto& o = p.orientation;
+  return Pose(Eigen::Quaterniond(o.w, o.x, o.y, o.z), {p.position.x, p.position.y, p.position.z});
+}
+
+}  // namespace
+
+std::optional<StampedPose> firstTruth(const std::string& input, int64_t from_ns) {
+  auto reader = openRecording(input);
+  RecordedMessage m;
+  for (int i = 0; i < 100000 && reader->next(m);) {
+    if (m.log_time_ns < from_ns) continue;  // skipped without counting: a late segment's start
+    ++i;
+    if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
+      const Pose pose = poseOf(p->pose);
+      if (isFinite(pose)) return StampedPose{msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns, pose};
+    }
+  }
+  return std::nullopt;
+}
+
+std::vector<bool> sensorMask(const Rig& rig, const std::string& names) {
+  if (names.empty()) return {};
+  std::vector<bool> mask(rig.size(), false);
+  std::stringstream ss(names);
+  for (std::string name; std::getline(ss, name, ',');) {
+    const int s = rig.find(name);
+    if (s < 0) throw std::runtime_error(fmt::format("--sensors: rig '{}' has no sensor '{}'", rig.name, name));
+    mask[s] = true;
+  }
+  return mask;
+}
+
+std::vector<EstimatedPose> estimatesOf(const std::vector<FrameRecord>& frames) {
+  std::vector<EstimatedPose> e;
+  e.reserve(frames.size());
+  for (const auto& f : frames) e.push_back({f.stamp_ns, f.pose, f.status});
+  return e;
+}
+
+JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
+  const auto t_start = Clock::now();
+  const Rig& rig = ctx.config.rig;
+  auto reader = openRecording(o.input);
+  JobResult res;
+  res.input = o.input;
+  res.format = reader->format();
+  res.keep_from_ns = o.keep_from_ns;
+  res.keep_to_ns = o.keep_to_ns;
+  auto log = [&](const std::string& s) { if (o.log) o.log(s); };
+
+  std::set<std::string> warned;
+  auto warn = [&](const std::string& key, const std::string& text) {
+    if (warned.insert(key).second) log(fmt::format("warning: {} (warned once)", text));
+  };
+  uint64_t truth_file_rejected = 0;
+  if (!o.ground_truth_file.empty()) {
+    TumReader tr(o.ground_truth_file);
+    for (StampedPose p; tr.next(p);) res.truth.push_back(p);
+    truth_file_rejected = tr.rejected();
+    for (size_t i = 0; i < tr.warnings().size() && i < 5; ++i) log("warning: " + tr.warnings()[i]);
+    res.truth_from_stream = false;
+  }
+
+  std::optional<StampedPose> start;
+  if (o.start == StartMode::Pose) {
+    start = StampedPose{0, o.start_pose};
+    res.init_mode = "pose";
+  } else if (o.start == StartMode::Auto) {
+    if (!res.truth.empty()) {
+      for (const auto& p : GroundTruth(res.truth).poses())
+        if (p.stamp_ns >= o.read_from_ns) { start = p; break; }
+    } else {
+      start = firstTruth(o.input, o.read_from_ns);
+    }
+    if (start) {
+      res.init_mode = "ground_truth";
+      log(fmt::format("starting from the first ground-truth pose ({:.3f}, {:.3f}, yaw {:.1f} deg)", start->pose.x(),
+                      start->pose.y(), rad2deg(start->pose.yaw())));
+    } else {
+      log("no --init and no ground truth: global localisation");
+    }
+  }
+  Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
+  const double sxy = o.init_sigma_xy_m, syaw = deg2rad(o.init_sigma_yaw_deg);
+  cov.diagonal() << sxy * sxy, sxy * sxy, 0.02 * 0.02, deg2rad(1) * deg2rad(1), deg2rad(1) * deg2rad(1), syaw * syaw;
+
+  Localizer loc(ctx.caster, ctx.mesh, rig, ctx.config.mcl);
+  TopicRouter router(rig, o.sensors.empty() ? std::vector<bool>(rig.size(), true) : o.sensors);
+  const RecordingSpan span = spanOf(reader->topics());
+  const int64_t from_ns = std::max(o.read_from_ns, span.first_ns);
+  const int64_t to_ns = std::min(o.keep_to_ns, span.last_ns);
+  const double progress_ns = std::max<double>(1.0, double(to_ns - from_ns));
+
+  std::vector<float> ranges;
+  uint64_t read = 0, unknown_sensor = 0, wrong_size = 0, bad_image = 0, disabled = 0;
+  bool initialised = false;
+  size_t next_cloud = 0;  // clouds at 0, 1/3, 2/3 of the kept span, and the last update
+  auto snapshot = [&](const MclEstimate& e) {
+    viz::LocalizePlotData::Cloud c{double(e.stamp_ns - span.first_ns) * 1e-9, e.updates, e.pose, {}};
+    const ParticleSet& ps = loc.particles();
+    const size_t step = std::max<size_t>(1, ps.size() / std::max<size_t>(1, o.plot_particles));
+    for (size_t i = 0; i < ps.size(); i += step) c.particles.emplace_back(float(ps.x[i]), float(ps.y[i]));
+    return c;
+  };
+  auto initialise = [&](int64_t stamp) {
+    initialised = true;
+    res.init_ns = start && start->stamp_ns ? start->stamp_ns : stamp;
+    if (start) loc.initPose(start->pose, cov, res.init_ns);
+    else loc.initGlobal(res.init_ns);
+  };
+  auto timed = [&](auto&& f) {
+    const auto t0 = Clock::now();
+    f();
+    res.filter_s += std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  const int64_t plot_from = std::max(o.keep_from_ns, from_ns);
+  const double plot_span = std::max<double>(1.0, double(to_ns - plot_from));
+
+  RecordedMessage m;
+  while (reader->next(m)) {
+    if (m.log_time_ns < o.read_from_ns) continue;  // before this segment's warm-up
+    if (m.log_time_ns >= o.keep_to_ns) break;      // the next segment's span
+    ++read;
+    if (o.progress && read % 64 == 0) o.progress(std::clamp(double(m.log_time_ns - from_ns) / progress_ns, 0.0, 1.0), loc.counters().updates);
+    if (const auto* p = std::get_if<msg::PoseStamped>(&m.message)) {
+      if (m.topic != "/ground_truth" || !res.truth_from_stream) continue;
+      const int64_t t = msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns;
+      res.truth.push_back({t, poseOf(p->pose)});
+      continue;
+    }
+    if (const auto* od = std::get_if<msg::Odometry>(&m.message)) {
+      const int64_t t = msg::toNs(od->header.stamp) ? msg::toNs(od->header.stamp) : m.log_time_ns;
+      if (!initialised) initialise(t);
+      timed([&] { loc.addOdometry(t, poseOf(od->pose.pose)); });
+      continue;
+    }
+    const TopicRouter::Result r = router.route(m.topic, m.log_time_ns, m.message, ranges);
+    switch (r.kind) {
+      case TopicRouter::Kind::Ignored: continue;
+      case TopicRouter::Kind::Disabled: ++disabled; continue;
+      case TopicRouter::Kind::UnknownSensor: ++unknown_sensor, warn(m.topic, r.why); continue;
+      case TopicRouter::Kind::WrongSize: ++wrong_size, warn("size " + m.topic, r.why + ": frame rejected"); continue;
+      case TopicRouter::Kind::BadImage: ++bad_image, warn("image " + m.topic, r.why + ": frame rejected"); continue;
+      case TopicRouter::Kind::Frame: break;
+    }
+    if (!initialised) initialise(r.stamp_ns);
+    bool updated = false;
+    timed([&] { updated = loc.addScan(static_cast<size_t>(r.sensor), r.stamp_ns, ranges); });
+    if (!updated) continue;
+    const MclEstimate e = loc.estimate();
+    if (e.stamp_ns < o.keep_from_ns || e.stamp_ns >= o.keep_to_ns) continue;  // warm-up
+    res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles});
+    if (!o.plot) continue;
+    if (isFinite(e.pose)) res.plot.estimate_path.emplace_back(float(e.pose.x()), float(e.pose.y()));
+    if (next_cloud < 3 && double(e.stamp_ns - plot_from) >= next_cloud * plot_span / 3) {
+      res.plot.clouds.push_back(snapshot(e));
+      ++next_cloud;
+    } else if (next_cloud == 3 || next_cloud == 4) {  // the 4th cloud follows the last update
+      if (next_cloud == 4) res.plot.clouds.pop_back();
+      res.plot.clouds.push_back(snapshot(e));
+      next_cloud = 4;
+    }
+  }
+  if (o.progress) o.progress(1.0, loc.counters().updates);
+  const ReadStats& rs = reader->stats();
+  for (size_t i = 0; i < rs.warnings.size() && i < 5; ++i) res.warnings.push_back(rs.warnings[i]);
+  if (!initialised) log(fmt::format("warning: {}: no odometry and no scans for the rig", o.input));
+
+  const MclCounters& c = loc.counters();
+  res.counters = {{"messages", read},
+                  {"records_rejected", rs.rejected},
+                  {"odometry", c.odometry},
+                  {"odometry_out_of_order", c.odometry_out_of_order},
+                  {"odometry_gaps", c.odometry_gaps},
+                  {"scans", c.scans},
+                  {"scans_rejected", c.scans_rejected + wrong_size + bad_image},
+                  {"scans_wrong_size", wrong_size},
+                  {"scans_bad_image", bad_image},
+                  {"scans_unknown_sensor", unknown_sensor},
+                  {"scans_disabled", disabled},
+                  {"resamples", c.resamples},
+                  {"injected", c.injected},
+                  {"refinements", c.refinements},
+                  {"refinements_refused", c.refinements_refused},
+                  {"relocalizations", c.relocalizations},
+                  {"hypotheses", c.hypotheses},
+                  {"particles_blocked", c.particles_blocked},
+                  {"blocked_ignored", c.blocked_ignored},
+                  {"ground_truth_rejected", truth_file_rejected}};
+  const MclEstimate last = loc.estimate();
+  res.updates = c.updates;
+  res.final_particles = last.particles;
+  res.final_status = last.status;
+  res.final_pose = last.pose;
+  res.wall_s = std::chrono::duration<double>(Clock::now() - t_start).count();
+  return res;
+}
+
+}  // namespace polyloc::reloc

@@ -1,0 +1,103 @@
+// One recording (or one time segment of it) through the Monte-Carlo localiser: the per-recording
+// work that `polyloc localize` and `polyloc relocalize` share (docs/relocalize.md). It reads
+// the recording, starts the filter by the rules of `localize` (an explicit pose, --global, else
+// the first ground-truth pose, else global), feeds odometry and range frames, and keeps every
+// estimate with covariance, status and ESS. It writes nothing: the report functions do.
+//
+//   JobContext ctx{cfg, mesh, caster};        // shared, read-only, by concurrent jobs
+//   JobResult r = runRecordingJob(ctx, options);
+#pragma once
+
+#include "reloc/topic_router.hpp"
+#include "viz/localize_plot.hpp"
+
+#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/eval/trajectory_metrics.hpp>
+#include <polyloc/io/tum.hpp>
+#include <polyloc/map/mesh.hpp>
+#include <polyloc/mcl/localizer.hpp>
+#include <polyloc/raycast/ray_caster.hpp>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace polyloc::reloc {
+
+// What every job of one run shares. The caster is only read (castScans is thread-safe); the
+// config's mcl section is used as is, so set mcl.threads = 0 to weigh in the caller's arena.
+struct JobContext {
+  const PolylocConfig& config;
+  const Mesh& mesh;
+  const RayCaster& caster;
+};
+
+enum class StartMode { Auto, Global, Pose };
+
+struct JobOptions {
+  std::string input;
+  StartMode start = StartMode::Auto;  // Auto: first ground-truth pose (of the read span), else global
+  Pose start_pose;                    // StartMode::Pose
+  double init_sigma_xy_m = 0.1, init_sigma_yaw_deg = 5;  // spread of pose and ground-truth starts
+  std::vector<bool> sensors;          // per rig sensor, used or not; empty = all
+  std::string ground_truth_file;      // TUM; empty: the recording's /ground_truth
+  // Time window (log time, ns). Messages before read_from_ns are skipped (a segment's warm-up
+  // starts there); estimates outside [keep_from_ns, keep_to_ns) are not kept. Defaults: all.
+  int64_t read_from_ns = std::numeric_limits<int64_t>::min();
+  int64_t keep_from_ns = std::numeric_limits<int64_t>::min();
+  int64_t keep_to_ns = std::numeric_limits<int64_t>::max();
+  bool plot = false;                  // collect the paths and particle clouds for the PNG
+  size_t plot_particles = 500;        // particles per cloud in the plot
+  // Progress, fraction 0..1 of the span to read, called every ~64 messages (from this thread).
+  std::function<void(double fraction, uint64_t updates)> progress;
+  // Warnings (once per kind) and notes as they come, without the "polyloc ...:" prefix.
+  std::function<void(const std::string&)> log;
+};
+
+// One kept estimate: what the per-frame CSV and the TUM file hold.
+struct FrameRecord {
+  int64_t stamp_ns = 0;
+  Pose pose;
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  MclStatus status = MclStatus::Initialising;
+  double ess = 0;
+  size_t particles = 0;
+};
+
+struct JobResult {
+  std::string input, format;
+  std::string init_mode = "global";   // "global", "pose", "ground_truth"
+  int64_t init_ns = 0;                // when the filter started (0: never)
+  int64_t keep_from_ns = 0, keep_to_ns = 0;  // the kept span as given (for the merge)
+  std::vector<FrameRecord> frames;    // kept estimates, in stamp order
+  std::vector<StampedPose> truth;     // ground truth over the read span (file or stream)
+  bool truth_from_stream = true;
+  std::map<std::string, uint64_t> counters;  // the `counters` object of the JSON summary
+  uint64_t updates = 0;
+  size_t final_particles = 0;
+  MclStatus final_status = MclStatus::Initialising;
+  Pose final_pose;
+  double filter_s = 0, wall_s = 0;
+  viz::LocalizePlotData plot;         // estimate path and clouds (truth path: see truthPath)
+  std::vector<std::string> warnings;  // of the reader, first 5
+};
+
+// Throws (IoError, std::runtime_error) when the input cannot be read at all.
+JobResult runRecordingJob(const JobContext& ctx, const JobOptions& options);
+
+// The first /ground_truth pose at or after `from_ns` (a short pass over the recording).
+std::optional<StampedPose> firstTruth(const std::string& input, int64_t from_ns);
+
+// --sensors "a,b": which rig sensors are used (empty list: all). Throws naming a sensor the
+// rig does not have.
+std::vector<bool> sensorMask(const Rig& rig, const std::string& names);
+
+// Estimates as the metrics take them.
+std::vector<EstimatedPose> estimatesOf(const std::vector<FrameRecord>& frames);
+
+}  // namespace polyloc::reloc
