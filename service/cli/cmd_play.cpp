@@ -41,7 +41,7 @@ void runPlay(const PlayArgs& a) {
     fmt::print(stderr, "polyloc play: rate {}: stamps keep the data's own pace; polylocd needs `clock: source` "
                        "to accept them (docs/polylocd.md)\n", a.rate);
   const bool tty = isatty(fileno(stderr));
-  const double span = a.duration > 0 ? std::min(a.duration, src->durationS()) : src->durationS();
+  const double span = a.duration > 0 ? (a.loop ? a.duration : std::min(a.duration, src->durationS())) : src->durationS();
 
   if (a.loop && !(a.duration > 0)) throw std::runtime_error("--loop needs --duration");
   RecordedMessage m;
