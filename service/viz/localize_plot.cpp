@@ -29,7 +29,7 @@ void drawLocalization(const Mesh& map, const LocalizePlotData& d, const std::str
   const Color palette[] = {kOrange, {200, 40, 160}, kCyan, {120, 80, 20}, kGreen, {90, 90, 220}};
   std::string legend = d.title;
   if (!d.legend.empty()) legend += "\n" + d.legend;
-  legend += "\nblue: ground truth; red: estimate; particle clouds:";
+  legend += d.clouds.empty() ? "\nblue: ground truth; red: estimate" : "\nblue: ground truth; red: estimate; particle clouds:";
   for (size_t c = 0; c < d.clouds.size(); ++c) {
     const auto& cloud = d.clouds[c];
     legend += fmt::format("{} t = {:.1f} s (update {}, {} shown)", c % 2 == 0 ? "\n " : ";", cloud.t_s,
