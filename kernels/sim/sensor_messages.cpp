@@ -16,6 +16,11 @@ msg::Pose toMsgPose(const Pose& p) {
   return m;
 }
 
+Pose fromMsgPose(const msg::Pose& m) {
+  const auto& q = m.orientation;
+  return Pose(Eigen::Quaterniond(q.w, q.x, q.y, q.z), Eigen::Vector3d(m.position.x, m.position.y, m.position.z));
+}
+
 msg::Transform toMsgTransform(const Pose& p) {
   msg::Transform t;
   t.translation = {p.x(), p.y(), p.z()};

@@ -9,6 +9,7 @@
 #include "viz/topview.hpp"
 
 #include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/sim/simulator.hpp>  // fromMsgPose
 #include <polyloc/depth/filter.hpp>
 #include <polyloc/eval/mot_metrics.hpp>
 #include <polyloc/eval/stats.hpp>
@@ -43,11 +44,6 @@ struct PerceiveArgs {
   double vrs_reach = 1.2;  // m: segments scored against the true VRS (where lisa's tilted scanners have looked)
   bool json = false;
 };
-
-Pose toPose(const msg::Pose& p) {
-  return Pose(Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z),
-              Eigen::Vector3d(p.position.x, p.position.y, p.position.z));
-}
 
 msg::LaserScan toScan(const VirtualScan& v, const std::vector<float>& ranges, int64_t stamp, const std::string& frame) {
   msg::LaserScan s;
@@ -200,11 +196,11 @@ void runPerceive(const PerceiveArgs& a) {
       std::fflush(stderr);
     }
     if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
-      if (a.pose == "ground_truth") pose = toPose(p->pose);
+      if (a.pose == "ground_truth") pose = fromMsgPose(p->pose);
       continue;
     }
     if (const auto* o = std::get_if<msg::Odometry>(&m.message)) {
-      if (a.pose == "odometry") pose = toPose(o->pose.pose);
+      if (a.pose == "odometry") pose = fromMsgPose(o->pose.pose);
       continue;
     }
     if (const auto* t = std::get_if<msg::TrackArray>(&m.message); t && m.topic == "/ground_truth/people") {

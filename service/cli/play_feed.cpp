@@ -13,6 +13,7 @@
 #include <cstring>
 #include <ctime>
 #include <thread>
+#include <tuple>
 
 namespace polyloc::cli {
 namespace {
@@ -21,6 +22,14 @@ int64_t realtimeNs() {
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);
   return int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+// What polylocd lost over all inputs: frames overwritten before it read them, frames it rejected.
+std::pair<uint64_t, uint64_t> lostFrames(const polyloc_health& health) {
+  uint64_t dropped = 0, rejected = 0;
+  for (uint32_t i = 0; i < health.inputs && i < POLYLOC_MAX_INPUTS; ++i)
+    dropped += health.input[i].overruns, rejected += pipeline::rejectedFrames(health.input[i]);
+  return {dropped, rejected};
 }
 
 void add(std::map<std::string, uint64_t>& to, const std::map<std::string, uint64_t>& from) {
@@ -65,17 +74,13 @@ void PlayFeed::send(const RecordedMessage& m, int64_t offset_ns, int64_t first_l
   const int64_t shift = base_ns_ - first_log_ns + offset_ns;
   if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
     const int64_t t = msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns - offset_ns;
-    const auto& o = p->pose.orientation;
-    r_.truth.push_back({t + shift, Pose(Eigen::Quaterniond(o.w, o.x, o.y, o.z),
-                                        Eigen::Vector3d(p->pose.position.x, p->pose.position.y, p->pose.position.z))});
+    r_.truth.push_back({t + shift, fromMsgPose(p->pose)});
     return;
   }
   if (const auto* o = std::get_if<msg::Odometry>(&m.message)) {
     // --loop: each pass's odometry starts again where the simulator starts it; moved onto where
     // the last pass left it, the robot drives on without a jump (the route closes on itself).
-    const auto& q = o->pose.pose.orientation;
-    const auto& t = o->pose.pose.position;
-    const Pose odom(Eigen::Quaterniond(q.w, q.x, q.y, q.z), Eigen::Vector3d(t.x, t.y, t.z));
+    const Pose odom = fromMsgPose(o->pose.pose);
     if (offset_ns != odom_offset_) {
       odom_offset_ = offset_ns;
       if (last_odom_) odom_fix_ = *last_odom_ * odom.inverse();
@@ -134,11 +139,7 @@ std::string PlayFeed::statusLine(double t_s, double span_s) const {
     s += "  (no pose yet)";
   }
   if (health_) {
-    uint64_t dropped = 0, rejected = 0;
-    for (uint32_t i = 0; i < health_->inputs && i < POLYLOC_MAX_INPUTS; ++i) {
-      const auto& h = health_->input[i];
-      dropped += h.overruns, rejected += h.rejected_nan + h.rejected_size + h.rejected_stale + h.rejected_future;
-    }
+    const auto [dropped, rejected] = lostFrames(*health_);
     s += fmt::format("  dropped {} rejected {}{}", dropped, rejected, health_->flags & 1 ? "  INPUT SILENT" : "");
   }
   return s;
@@ -154,11 +155,7 @@ PlayResult PlayFeed::result() const {
     r.latency_p99_ms = percentile(r.latency_ms, 99);
     r.latency_max_ms = *std::max_element(r.latency_ms.begin(), r.latency_ms.end());
   }
-  if (health_)
-    for (uint32_t i = 0; i < health_->inputs && i < POLYLOC_MAX_INPUTS; ++i) {
-      const auto& h = health_->input[i];
-      r.dropped += h.overruns, r.rejected += h.rejected_nan + h.rejected_size + h.rejected_stale + h.rejected_future;
-    }
+  if (health_) std::tie(r.dropped, r.rejected) = lostFrames(*health_);
   return r;
 }
 

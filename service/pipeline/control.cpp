@@ -106,7 +106,7 @@ protocol::HealthReport DaemonControl::health() {
     protocol::InputStatus in;
     in.name = inputs_[i];
     in.taken = x.taken;
-    in.rejected = x.rejected_nan + x.rejected_size + x.rejected_stale + x.rejected_future;
+    in.rejected = rejectedFrames(x);
     in.silent = x.silent != 0;
     if (dt > 0) in.rate_hz = double(x.taken - prev_->input[i].taken) / dt;
     if (x.last_stamp_ns) in.silence_s = std::max(0.0, double(h.stamp_ns - x.last_stamp_ns) * 1e-9);

@@ -45,7 +45,7 @@ struct Daemon::Impl final : PipelineSink {
   tbb::task_arena arena;
   std::vector<polyloc_input_health> health;
   std::vector<int64_t> last_taken_mono;  // per input: CLOCK_MONOTONIC of the last frame taken
-  std::vector<bool> silent, announced;
+  std::vector<bool> announced;  // per input: its first frames were logged
   std::vector<uint64_t> logged;          // per input: rejections logged (rate limit)
   std::vector<Taken> pass;
   std::vector<double> cycle_ms;          // ring of the last 1000 cycles
@@ -71,8 +71,8 @@ struct Daemon::Impl final : PipelineSink {
     w_health = std::make_unique<shm::Writer>(seg, d.table_.health, true);
     const size_t n = d.table_.inputs.size();
     health.assign(n, polyloc_input_health{});
+    for (auto& h : health) h.silent = 1;  // until the first frame
     last_taken_mono.assign(n, 0);  // 0: nothing taken yet
-    silent.assign(n, true);
     announced.assign(n, false);
     logged.assign(n, 0);
   }
@@ -262,12 +262,11 @@ struct Daemon::Impl final : PipelineSink {
       // worth a warning: at start every input is still coming up.
       const bool never = last_taken_mono[i] == 0;
       const bool now_silent = never || mono - last_taken_mono[i] > d.cfg_.daemon.input_timeout_ns;
-      if (now_silent && !silent[i] && !never)
+      if (now_silent && !health[i].silent && !never)
         spdlog::warn("input {} silent: no frame for {:.1f} s", desc(int(i)).name, double(mono - last_taken_mono[i]) * 1e-9);
-      else if (!now_silent && silent[i])
+      else if (!now_silent && health[i].silent)
         spdlog::info("input {}: {}", desc(int(i)).name, announced[i] ? "frames again" : "first frames");
       if (!now_silent) announced[i] = true;
-      silent[i] = now_silent;
       health[i].silent = now_silent;
       h.input[i] = health[i];
       if (now_silent) h.flags |= 1u;

@@ -2,6 +2,8 @@
 
 #include "pipeline/shm_payloads.hpp"
 
+#include <polyloc/sim/simulator.hpp>  // fromMsgPose
+
 #include <cstddef>
 #include <cstring>
 
@@ -66,9 +68,7 @@ MessageFeed::Sent MessageFeed::send(const std::string& topic, int64_t log_time_n
     const int ch = seg_.find("odom");
     if (ch < 0) return Sent::NoChannel;
     const int64_t stamp = stampOf(o->header, log_time_ns) + shift;
-    const auto& q = o->pose.pose.orientation;
-    const auto& t = o->pose.pose.position;
-    polyloc_odometry p = odometryPayload(stamp, Pose(Eigen::Quaterniond(q.w, q.x, q.y, q.z), Eigen::Vector3d(t.x, t.y, t.z)));
+    polyloc_odometry p = odometryPayload(stamp, fromMsgPose(o->pose.pose));
     p.vx = o->twist.twist.linear.x, p.vy = o->twist.twist.linear.y, p.wz = o->twist.twist.angular.z;
     writer(ch).write(&p, sizeof p, stamp);
     return counted(ch);

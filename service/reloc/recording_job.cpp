@@ -1,6 +1,7 @@
 #include "reloc/recording_job.hpp"
 
 #include <polyloc/io/recording.hpp>
+#include <polyloc/sim/simulator.hpp>  // fromMsgPose
 
 #include <fmt/core.h>
 
@@ -14,11 +15,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-Pose poseOf(const msg::Pose& p) {
-  const auto& o = p.orientation;
-  return Pose(Eigen::Quaterniond(o.w, o.x, o.y, o.z), {p.position.x, p.position.y, p.position.z});
-}
-
 }  // namespace
 
 std::optional<StampedPose> firstTruth(const std::string& input, int64_t from_ns) {
@@ -28,7 +24,7 @@ std::optional<StampedPose> firstTruth(const std::string& input, int64_t from_ns)
     if (m.log_time_ns < from_ns) continue;  // skipped without counting: a late segment's start
     ++i;
     if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
-      const Pose pose = poseOf(p->pose);
+      const Pose pose = fromMsgPose(p->pose);
       if (isFinite(pose)) return StampedPose{msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns, pose};
     }
   }
@@ -142,13 +138,13 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     if (const auto* p = std::get_if<msg::PoseStamped>(&m.message)) {
       if (m.topic != "/ground_truth" || !res.truth_from_stream) continue;
       const int64_t t = msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns;
-      res.truth.push_back({t, poseOf(p->pose)});
+      res.truth.push_back({t, fromMsgPose(p->pose)});
       continue;
     }
     if (const auto* od = std::get_if<msg::Odometry>(&m.message)) {
       const int64_t t = msg::toNs(od->header.stamp) ? msg::toNs(od->header.stamp) : m.log_time_ns;
       if (!initialised) initialise(t);
-      timed([&] { loc.addOdometry(t, poseOf(od->pose.pose)); });
+      timed([&] { loc.addOdometry(t, fromMsgPose(od->pose.pose)); });
       continue;
     }
     const TopicRouter::Result r = router.route(m.topic, m.log_time_ns, m.message, ranges);

@@ -108,6 +108,7 @@ Mesh loadScenarioMap(const Scenario& s);
 
 // Conversions to message fields (also for the CLI's TUM and plots).
 msg::Pose toMsgPose(const Pose& p);
+Pose fromMsgPose(const msg::Pose& m);
 msg::Transform toMsgTransform(const Pose& p);
 
 }  // namespace polyloc
