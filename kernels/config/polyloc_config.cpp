@@ -39,7 +39,7 @@ PolylocConfig loadConfig(const std::string& path) {
   c.map = readMapConfig(m.value("map"), m);
   c.robot = parseRobot(m.map("robot"));
   c.rig = readRig(m.value("rig"), m);
-  if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"));
+  if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"), &c.rig);
   c.vrs.robot_height = c.robot.height;
   if (m.has("vrs")) c.vrs = parseVrsConfig(m.map("vrs"), c.robot.height);
   if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), &c.rig);

@@ -4,6 +4,7 @@
 #include <polyloc/io/recording.hpp>
 #include <polyloc/mcl/global_init.hpp>
 #include <polyloc/mcl/localizer.hpp>
+#include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
 #include <polyloc/sim/simulator.hpp>
 #include <algorithm>
@@ -137,9 +138,11 @@ bool recordRound(TrialResult& r, const GroundTruth& gt, const MclEstimate& e, in
 
 struct TrialSetup {
   EmbreeCaster caster;
+  std::unique_ptr<RayCaster> weigh;  // mcl.caster when not embree
   FreeFloor floor;
   double half_width = 0.3;
-  TrialSetup(const Mesh& map, const MclConfig& mcl, const Scenario& s) : caster(map), floor(caster, map, mcl) {
+  TrialSetup(const Mesh& map, const MclConfig& mcl, const Scenario& s)
+      : caster(map), weigh(makeWeighingCaster(map, s.config.rig, mcl, mcl.threads)), floor(caster, map, mcl) {
     const RobotSpec& robot = s.config.robot;
     if (robot.footprint.empty()) half_width = robot.radius;
     for (const auto& v : robot.footprint) half_width = std::max(half_width, std::abs(v.y()));
@@ -183,7 +186,7 @@ std::vector<TrialResult> runGlobalTrials(const Scenario& s, const Mesh& map, con
     const GroundTruth gt(d.truth);
     TrialResult r;
     r.index = k, r.start = d.start;
-    Localizer loc(setup.caster, map, s.config.rig, mcl);
+    Localizer loc(setup.caster, map, s.config.rig, mcl, setup.weigh.get());
     loc.initGlobal(d.events.front().stamp);
     feed(loc, d, 0, Pose(), 0, r.filter_s, [&](const MclEstimate& e) { return recordRound(r, gt, e, 0, o); });
     r.updates = loc.counters().updates;
@@ -208,7 +211,7 @@ std::vector<TrialResult> runKidnapTrials(const Scenario& s, const Mesh& map, con
     const Drive b = setup.drive(s, map, o, 2 * k + 1);
     TrialResult r;
     r.index = k, r.start = b.start;
-    Localizer loc(setup.caster, map, s.config.rig, mcl);
+    Localizer loc(setup.caster, map, s.config.rig, mcl, setup.weigh.get());
     Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
     cov.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 1e-4, 1e-4, 1e-4, 0.03 * 0.03;
     loc.initPose(a.start, cov, a.events.front().stamp);

@@ -1,11 +1,13 @@
 #include <polyloc/mcl/config_yaml.hpp>
 #include <polyloc/mcl/sensor_model.hpp>
+#include <polyloc/mcl/weighing.hpp>
+#include <polyloc/raycast/factory.hpp>
 
 #include <limits>
 
 namespace polyloc {
 
-MclConfig parseMclConfig(ConfigMap m) {
+MclConfig parseMclConfig(ConfigMap m, const Rig* rig) {
   MclConfig c;
   constexpr double kBig = 1e9;
   auto count = [&](const char* key, size_t def) {
@@ -20,6 +22,23 @@ MclConfig parseMclConfig(ConfigMap m) {
     c.model = m.getChoice("model", c.model, names);
     names.push_back("none");
     c.depth_model = m.getChoice("depth_model", c.depth_model, names);
+  }
+  if (m.has("sensors")) {
+    const ConfigValue v = m.value("sensors");
+    if (!v.isSequence()) v.fail("expected a list of sensor names");
+    for (const ConfigValue& item : v.items()) c.sensors.push_back(item.asString());
+  }
+  c.caster = m.getChoice("caster", c.caster, casterNames());
+  c.caster_resolution = m.getDouble("caster_resolution", c.caster_resolution, 1e-3, 10);
+  if (m.has("caster_height")) c.caster_height = m.getDouble("caster_height", 0.3, -100, 100);
+  if (rig) {
+    try {
+      weighedSensors(*rig, c);
+    } catch (const std::invalid_argument& e) {
+      if (m.has("sensors")) m.value("sensors").fail(e.what());
+      if (m.has("caster")) m.value("caster").fail(e.what());
+      m.fail(e.what());
+    }
   }
   c.particles = count("particles", c.particles);
   c.min_particles = count("min_particles", c.min_particles);

@@ -10,6 +10,7 @@
 #include <polyloc/mcl/motion_model.hpp>
 #include <polyloc/mcl/refine.hpp>
 #include <polyloc/mcl/resample.hpp>
+#include <polyloc/mcl/weighing.hpp>
 
 #include <tbb/task_arena.h>
 
@@ -54,13 +55,16 @@ Pose ParticleSet::pose(size_t i) const {
 }
 
 struct Localizer::Impl {
-  Impl(const RayCaster& c, const Mesh& m, const Rig& r, const MclConfig& cfg)
-      : caster(c), rig(r), config(cfg), floor(c, m, config), rng(cfg.seed) {
+  Impl(const RayCaster& exact, const Mesh& m, const Rig& r, const MclConfig& cfg, const RayCaster* weigh)
+      : caster(weigh ? *weigh : exact), rig(r), config(cfg), floor(exact, m, config), rng(cfg.seed) {
+    const RayCaster& c = caster;
     for (const auto& s : rig.sensors) beams.push_back(s.beams());
+    const std::vector<uint8_t> weighed = weighedSensors(rig, config);
     // One model instance per name; each sensor points at the one its kind is configured for.
-    for (const auto& s : rig.sensors) {
+    for (size_t k = 0; k < rig.size(); ++k) {
+      const Sensor& s = rig.sensors[k];
       const std::string& name = std::holds_alternative<DepthCameraSpec>(s.spec) ? config.depth_model : config.model;
-      if (name == "none") {
+      if (name == "none" || !weighed[k]) {
         model_of.push_back(nullptr);
         continue;
       }
@@ -391,8 +395,9 @@ struct Localizer::Impl {
   size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior
 };
 
-Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config)
-    : impl_(std::make_unique<Impl>(caster, map, rig, config)) {}
+Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config,
+                     const RayCaster* weigh)
+    : impl_(std::make_unique<Impl>(caster, map, rig, config, weigh)) {}
 Localizer::~Localizer() = default;
 
 void Localizer::initPose(const Pose& pose, const Eigen::Matrix<double, 6, 6>& cov, int64_t stamp) {
@@ -455,7 +460,7 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
       stamp < d.last_scan[sensor] || d.ps.size() == 0)
     return ++d.counters.scans_rejected, false;
   if (BeamSensorModel::selectBeams(d.beams[sensor], ranges, 1).empty()) return ++d.counters.scans_rejected, false;
-  if (!d.model_of[sensor]) return false;  // depth_model: none
+  if (!d.model_of[sensor]) return false;  // not weighed: depth_model none, or not in mcl.sensors
   d.last_scan[sensor] = stamp;
   // A round starts after enough motion (or with the first scan); every sensor then contributes
   // its next frame. Motion during an open round does not restart it (a turn in place would then

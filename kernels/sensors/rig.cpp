@@ -1,6 +1,7 @@
 #include <polyloc/sensors/rig.hpp>
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <stdexcept>
@@ -11,6 +12,12 @@ int Rig::find(const std::string& sensor_name) const {
   for (size_t i = 0; i < sensors.size(); ++i)
     if (sensors[i].name == sensor_name) return static_cast<int>(i);
   return -1;
+}
+
+bool Rig::isLevelScanner(size_t i, double max_tilt) const {
+  if (i >= sensors.size() || !std::holds_alternative<PlanarScannerSpec>(sensors[i].spec)) return false;
+  const Eigen::Vector3d up = sensors[i].mount.rotate(Eigen::Vector3d::UnitZ());
+  return up.z() > std::cos(max_tilt);
 }
 
 std::vector<std::string> rigPresetNames() { return {"lisa", "taser"}; }

@@ -5,21 +5,12 @@
 #include <stdexcept>
 
 namespace polyloc {
-namespace {
-
-// Motion detection compares bearings in the scan plane: a tilted plane sweeps the floor.
-bool level(const Pose& mount) {
-  const Eigen::Vector3d up = mount.rotate(Eigen::Vector3d::UnitZ());
-  return up.z() > std::cos(10.0 * M_PI / 180.0);
-}
-
-}  // namespace
 
 std::vector<size_t> trackingSensors(const Rig& rig, const TrackingConfig& config) {
   std::vector<size_t> out;
   if (config.sensors.empty()) {
     for (size_t i = 0; i < rig.size(); ++i)
-      if (std::holds_alternative<PlanarScannerSpec>(rig.sensors[i].spec) && level(rig.sensors[i].mount)) out.push_back(i);
+      if (rig.isLevelScanner(i)) out.push_back(i);  // motion detection compares bearings in the scan plane
     if (out.empty()) throw std::invalid_argument("tracking: rig '" + rig.name + "' has no level planar scanner");
     return out;
   }
@@ -29,7 +20,7 @@ std::vector<size_t> trackingSensors(const Rig& rig, const TrackingConfig& config
     const Sensor& s = rig.sensors[size_t(i)];
     if (!std::holds_alternative<PlanarScannerSpec>(s.spec))
       throw std::invalid_argument("tracking: sensor '" + name + "' is a " + s.typeName() + ", not a planar scanner");
-    if (!level(s.mount)) throw std::invalid_argument("tracking: sensor '" + name + "' is tilted more than 10 deg");
+    if (!rig.isLevelScanner(size_t(i))) throw std::invalid_argument("tracking: sensor '" + name + "' is tilted more than 10 deg");
     if (std::find(out.begin(), out.end(), size_t(i)) == out.end()) out.push_back(size_t(i));
   }
   return out;

@@ -2,6 +2,8 @@
 
 #include <polyloc/io/recording.hpp>
 #include <polyloc/mcl/localizer.hpp>
+#include <polyloc/mcl/weighing.hpp>
+#include <polyloc/raycast/embree.hpp>
 #include <polyloc/sim/scenario.hpp>
 #include <polyloc/sim/simulator.hpp>
 
@@ -33,19 +35,28 @@ nlohmann::json benchLocalize(const std::string& backend, const CasterOptions& op
   Scenario scenario = loadScenario(a.scenario);
   if (a.duration > 0) scenario.duration = a.duration;
   Mesh map = loadScenarioMap(scenario);  // the static map, before the simulator moves chairs
-  // A 2D grid must be sliced where the level scanners scan (lisa: 0.10 m), not at a default.
-  CasterOptions co = options;
-  double level_z = std::numeric_limits<double>::infinity();
-  for (const Sensor& sensor : scenario.config.rig.sensors)
-    if (std::abs(sensor.mount.pitch()) < 0.02 && std::abs(sensor.mount.roll()) < 0.02)
-      level_z = std::min(level_z, sensor.mount.z());
-  if (std::isfinite(level_z)) co.height = level_z;
-  const std::unique_ptr<RayCaster> caster = makeCaster(backend, map, co);
   MclConfig cfg = scenario.config.mcl;
   if (a.particles > 0) cfg.particles = cfg.min_particles = cfg.max_particles = a.particles;
   cfg.threads = options.threads;
+  cfg.caster = backend;
+  cfg.caster_resolution = options.resolution;
+  const Rig& rig = scenario.config.rig;
+  if (backend == "grid2d" || a.level_scanners) {
+    // A slice sees level scanners only and says nothing of z, roll and pitch: the refinement fits
+    // x, y, yaw, as a 2D-grid localiser would (level_scanners: every backend on those terms).
+    cfg.sensors.clear();
+    for (size_t i = 0; i < rig.size(); ++i)
+      if (rig.isLevelScanner(i)) cfg.sensors.push_back(rig.sensors[i].name);
+    cfg.refine.dof = 3;
+  }
+  const EmbreeCaster exact(map);  // floor and free space, as in every polyloc localiser
+  const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(map, rig, cfg, options.threads);
   Simulator sim(scenario, map);
-  Localizer loc(*caster, map, scenario.config.rig, cfg);
+  Localizer loc(exact, map, rig, cfg, weigh.get());
+  std::vector<std::string> weighed;
+  const std::vector<uint8_t> on = weighedSensors(rig, cfg);
+  for (size_t i = 0; i < rig.size(); ++i)
+    if (on[i]) weighed.push_back(rig.sensors[i].name);
 
   bool started = false;
   double loc_s = 0;
@@ -82,7 +93,8 @@ nlohmann::json benchLocalize(const std::string& backend, const CasterOptions& op
   for (double v : yerr) ym += v;
   const double n = std::max<double>(1, double(terr.size()));
   return {{"scenario", a.scenario},
-          {"slice_height_m", co.height},
+          {"sensors", weighed},
+          {"slice_height_m", backend == "grid2d" ? nlohmann::json(weighingSliceHeight(rig, cfg)) : nlohmann::json()},
           {"sim_duration_s", s.sim_duration_s},
           {"particles", cfg.particles},
           {"updates", updates},

@@ -33,7 +33,7 @@ struct BenchMapsArgs {
   double resolution = 0.05, height = 0.3, localize_duration = 30;
   int threads = 2, repeat = 3;
   uint64_t seed = 1;
-  bool json = false;
+  bool json = false, level_scanners = false;
 };
 
 double residentMb() {
@@ -135,16 +135,17 @@ std::string markdownTable(const nlohmann::json& j) {
   bool loc = false;
   for (const auto& [name, b] : j["backends"].items()) loc = loc || b.contains("localize");
   if (loc) {
-    s << "\n| backend | MCL updates/s | trans err mean m | trans err p95 m | yaw err mean deg | final status |\n"
-      << "| --- | ---: | ---: | ---: | ---: | --- |\n";
+    s << "\n| backend | sensors weighed | MCL updates/s | trans err mean m | trans err p95 m | yaw err mean deg | final status |\n"
+      << "| --- | ---: | ---: | ---: | ---: | ---: | --- |\n";
     for (const auto& [name, b] : j["backends"].items()) {
       if (!b.contains("localize")) continue;
       const auto& l = b["localize"];
       if (l.contains("error")) {
-        s << "| " << name << " | error: " << l["error"].get<std::string>() << " | | | | |\n";
+        s << "| " << name << " | error: " << l["error"].get<std::string>() << " | | | | | |\n";
         continue;
       }
-      s << fmt::format("| {} | {:.1f} | {:.3f} | {:.3f} | {:.2f} | {} |\n", name, l["updates_per_s"].get<double>(),
+      s << fmt::format("| {} | {} | {:.1f} | {:.3f} | {:.3f} | {:.2f} | {} |\n", name, l["sensors"].size(),
+                       l["updates_per_s"].get<double>(),
                        l["trans_err_mean_m"].get<double>(), l["trans_err_p95_m"].get<double>(),
                        l["yaw_err_mean_deg"].get<double>(), l["final_status"].get<std::string>());
     }
@@ -189,7 +190,7 @@ void runBenchMaps(const BenchMapsArgs& a) {
       CasterOptions co;
       co.threads = a.threads, co.resolution = a.resolution, co.height = a.height;
       try {
-        j["localize"] = benchLocalize(n, co, {a.localize, a.localize_duration, 0});
+        j["localize"] = benchLocalize(n, co, {a.localize, a.localize_duration, 0, a.level_scanners});
       } catch (const std::exception& e) {
         j["localize"] = {{"error", e.what()}};
       }
@@ -228,6 +229,8 @@ void registerBenchMaps(CLI::App& bench) {
   c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(CLI::PositiveNumber);
   c.add_option("--seed", a->seed, "Seed of the random rays and points")->capture_default_str();
   c.add_option("--localize", a->localize, "Scenario YAML: also run MCL with each backend on it")->check(CLI::ExistingFile);
+  c.add_flag("--level-scanners", a->level_scanners,
+             "MCL of every backend weighs the rig's level planar scanners only (as grid2d always does)");
   c.add_option("--localize-duration", a->localize_duration, "Simulated seconds of the MCL run")->capture_default_str()->check(CLI::PositiveNumber);
   c.add_option("--markdown", a->markdown, "Also write the table as Markdown to FILE");
   c.add_flag("--json", a->json, "Print one JSON object on stdout");

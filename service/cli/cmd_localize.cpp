@@ -10,6 +10,7 @@
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/map/load.hpp>
+#include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
 
 #include <fmt/core.h>
@@ -91,7 +92,8 @@ void runLocalize(const LocalizeArgs& a) {
   EmbreeOptions eo;
   eo.threads = cfg.mcl.threads;
   EmbreeCaster caster(mesh, eo);
-  reloc::JobResult r = reloc::runRecordingJob({cfg, mesh, caster}, jo);
+  const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(mesh, cfg.rig, cfg.mcl, cfg.mcl.threads);
+  reloc::JobResult r = reloc::runRecordingJob({cfg, mesh, caster, weigh.get()}, jo);
   if (tty) fmt::print(stderr, "\n");
   for (const auto& w : r.warnings) fmt::print(stderr, "polyloc localize: warning: {}\n", w);
   if (!a.out.empty()) reloc::writeTum(a.out, r.frames);

@@ -12,6 +12,7 @@
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/map/load.hpp>
+#include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
 
 #include <fmt/core.h>
@@ -65,8 +66,9 @@ void runRelocalize(RelocalizeArgs& a) {
     EmbreeOptions eo;
     eo.threads = -1;  // the caller's arena: the batch's
     EmbreeCaster caster(*mesh, eo);
+    const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(*mesh, cfg.rig, cfg.mcl, -1);
     const int threads = o.threads > 0 ? o.threads : o.jobs;
-    outcomes = reloc::runTasks({cfg, *mesh, caster}, plan, mine, o.jobs, threads, rank, progress);
+    outcomes = reloc::runTasks({cfg, *mesh, caster, weigh.get()}, plan, mine, o.jobs, threads, rank, progress);
   } catch (const std::exception& e) {
     progress.message(fmt::format("polyloc relocalize: rank {} failed: {}", rank, e.what()));
     outcomes = reloc::failedTasks(mine, rank, fmt::format("rank {}: {}", rank, e.what()));

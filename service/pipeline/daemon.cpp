@@ -6,6 +6,7 @@
 #include "shm/validate.hpp"
 
 #include <polyloc/map/load.hpp>
+#include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
 
 #include <spdlog/spdlog.h>
@@ -38,6 +39,7 @@ struct Daemon::Impl final : PipelineSink {
   Daemon& d;
   Mesh map;
   std::unique_ptr<EmbreeCaster> caster;
+  std::unique_ptr<RayCaster> weigh;  // mcl.caster when not embree
   std::unique_ptr<Pipeline> pipe;
   shm::Segment seg;
   std::vector<shm::Reader> readers;  // per input, in ChannelTable::inputs order
@@ -63,7 +65,8 @@ struct Daemon::Impl final : PipelineSink {
     EmbreeOptions eo;
     eo.threads = d.cfg_.daemon.threads;
     caster = std::make_unique<EmbreeCaster>(map, eo);
-    pipe = std::make_unique<Pipeline>(pc, map, *caster);
+    weigh = makeWeighingCaster(map, pc.rig, pc.mcl, d.cfg_.daemon.threads);
+    pipe = std::make_unique<Pipeline>(pc, map, *caster, weigh.get());
     for (int ch : d.table_.inputs) readers.emplace_back(seg, ch, shm::Reader::Start::Next);
     w_pose = std::make_unique<shm::Writer>(seg, d.table_.pose, true);
     w_vrs = std::make_unique<shm::Writer>(seg, d.table_.vrs, true);

@@ -8,8 +8,9 @@
 
 namespace polyloc::pipeline {
 
-Pipeline::Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster) : cfg_(config), map_(map) {
-  loc_ = std::make_unique<Localizer>(caster, map_, cfg_.rig, cfg_.mcl);
+Pipeline::Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster, const RayCaster* weigh)
+    : cfg_(config), map_(map) {
+  loc_ = std::make_unique<Localizer>(caster, map_, cfg_.rig, cfg_.mcl, weigh);
   vrs_ = std::make_unique<VirtualRangeScanner>(cfg_.rig, cfg_.robot, cfg_.vrs, &map_);
   people_ = std::make_unique<PeopleTracker>(cfg_.rig, cfg_.tracking);
   level_ = people_->sensors();

@@ -43,7 +43,7 @@ struct PipelineCounters {
 
 class Pipeline {
  public:
-  Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster);
+  Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster, const RayCaster* weigh = nullptr);
   ~Pipeline();
 
   void initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);

@@ -97,7 +97,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   const double sxy = o.init_sigma_xy_m, syaw = deg2rad(o.init_sigma_yaw_deg);
   cov.diagonal() << sxy * sxy, sxy * sxy, 0.02 * 0.02, deg2rad(1) * deg2rad(1), deg2rad(1) * deg2rad(1), syaw * syaw;
 
-  Localizer loc(ctx.caster, ctx.mesh, rig, ctx.config.mcl);
+  Localizer loc(ctx.caster, ctx.mesh, rig, ctx.config.mcl, ctx.weigh);
   TopicRouter router(rig, o.sensors.empty() ? std::vector<bool>(rig.size(), true) : o.sensors);
   const RecordingSpan span = spanOf(reader->topics());
   const int64_t from_ns = std::max(o.read_from_ns, span.first_ns);

@@ -34,7 +34,8 @@ namespace polyloc::reloc {
 struct JobContext {
   const PolylocConfig& config;
   const Mesh& mesh;
-  const RayCaster& caster;
+  const RayCaster& caster;            // exact (Embree): floor and free space
+  const RayCaster* weigh = nullptr;   // mcl.caster when not embree (mcl/weighing.hpp)
 };
 
 enum class StartMode { Auto, Global, Pose };

@@ -4,6 +4,7 @@
 
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/mcl/localizer.hpp>
+#include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
 
 #include <pybind11/stl.h>
@@ -22,13 +23,15 @@ struct PyLocalizer {
   std::shared_ptr<const EmbreeCaster> caster;
   Rig rig;
   MclConfig config;
+  std::unique_ptr<RayCaster> weigh;  // mcl.caster other than embree
   std::unique_ptr<Localizer> loc;
   std::mutex mutex;
 
   PyLocalizer(std::shared_ptr<const EmbreeCaster> c, std::shared_ptr<const Mesh> m, Rig r, MclConfig cfg)
       : mesh(std::move(m)), caster(std::move(c)), rig(std::move(r)), config(std::move(cfg)) {
     pb::gil_scoped_release nogil;
-    loc = std::make_unique<Localizer>(*caster, *mesh, rig, config);
+    weigh = makeWeighingCaster(*mesh, rig, config, config.threads);
+    loc = std::make_unique<Localizer>(*caster, *mesh, rig, config, weigh.get());
   }
 
   size_t sensorIndex(const pb::handle& sensor) const {

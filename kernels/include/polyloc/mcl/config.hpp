@@ -3,7 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace polyloc {
 
@@ -120,6 +122,16 @@ struct MclConfig {
   int dof = 3;                      // 3: x, y, yaw on the floor; 6: full pose
   std::string model = "beam";       // scanners, lidar: beam | likelihood_field | plane_fragments
   std::string depth_model = "depth"; // depth cameras: depth | beam | likelihood_field | none
+  // Rig sensors the filter weighs, by name (empty: all). A 2D grid predicts only level planar
+  // scanners, so a grid2d filter lists those; the others stay in the rig for VRS and tracking.
+  std::vector<std::string> sensors;
+  // Map representation the particles are weighed against (raycast/factory.hpp: embree, bsp,
+  // grid2d, distance3d, octomap). The floor under particles and free-space sampling stay on the
+  // mesh (Embree): a 2D grid has no floor to stand on.
+  std::string caster = "embree";
+  double caster_resolution = 0.05;  // m: cells / voxels / nodes of grid2d, distance3d, octomap
+  // m above the floor where grid2d slices the map; NaN: the lowest level scanner the filter weighs
+  double caster_height = std::numeric_limits<double>::quiet_NaN();
   size_t particles = 2000;          // initial count (tracking)
   size_t min_particles = 500;       // KLD-sampling bounds
   size_t max_particles = 20000;

@@ -5,10 +5,12 @@
 
 #include <polyloc/config/yaml.hpp>
 #include <polyloc/mcl/config.hpp>
+#include <polyloc/sensors/rig.hpp>
 
 namespace polyloc {
 
-// Throws ConfigError naming file, line and key (unknown keys, bad values).
-MclConfig parseMclConfig(ConfigMap m);
+// Throws ConfigError naming file, line and key (unknown keys, bad values; with the rig, also
+// mcl.sensors it lacks or a grid2d caster without a level scanner).
+MclConfig parseMclConfig(ConfigMap m, const Rig* rig = nullptr);
 
 }  // namespace polyloc

@@ -61,7 +61,12 @@ struct MclCounters {
 
 class Localizer {
  public:
-  Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config);
+  // `caster` is exact (Embree on `map`): the floor under particles and free space. `weigh`, when
+  // given, is the representation the sensor models and the refinement cast against (mcl.caster,
+  // mcl/weighing.hpp); it must outlive the Localizer. Throws std::invalid_argument for
+  // mcl.sensors the rig lacks.
+  Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config,
+            const RayCaster* weigh = nullptr);
   ~Localizer();
 
   void initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);

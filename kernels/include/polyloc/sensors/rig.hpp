@@ -25,6 +25,9 @@ struct Rig {
 
   size_t size() const { return sensors.size(); }
   int find(const std::string& sensor_name) const;  // index, or -1
+  // A planar scanner whose scan plane is within max_tilt (rad) of horizontal: what a 2D map
+  // (grid2d, motion detection in the scan plane) can use.
+  bool isLevelScanner(size_t i, double max_tilt = 10.0 * 3.14159265358979323846 / 180.0) const;
   void add(Sensor s, std::string preset) {
     sensors.push_back(std::move(s));
     presets.push_back(std::move(preset));
