@@ -1,12 +1,15 @@
 // polyloc bench bsp: the solid-leaf BSP backend on a map (build time, size, rays/s for planar and
 // 3D rays, point-in-solid queries/s) beside Embree on the same rays in the same run: the
-// thesis's Table 6.1 measurement (100,000 random rays) for the BSP and Embree rows.
+// thesis's Table 6.1 measurement (100,000 random rays): the BSP and Embree rows, and the
+// Bresenham rows (grid2d sliced at the ray height, at the thesis's 5, 4 and 1 cm) on the same
+// planar rays and points.
 #include "cli/commands.hpp"
 
 #include <polyloc/geometry/random.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/raycast/bsp.hpp>
 #include <polyloc/raycast/embree.hpp>
+#include <polyloc/raycast/factory.hpp>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -24,6 +27,7 @@ namespace {
 struct BenchBspArgs {
   std::string map;
   std::string labels;  // comma-separated: keep only these labels' solids
+  std::vector<double> grid = {0.05, 0.04, 0.01};  // grid2d resolutions (m) of the Bresenham rows
   size_t rays = 100000;
   size_t points = 100000;
   int threads = 1;
@@ -105,6 +109,24 @@ Rays randomRays(const Mesh& mesh, const BspCaster& bsp, size_t n, double h, bool
   return r;
 }
 
+// Mean and p99 of |r - ref| where both hit, and the share within 1 mm (both misses agree).
+void compareRanges(const std::vector<float>& r, const std::vector<float>& ref, nlohmann::json& j, const std::string& key) {
+  size_t same = 0;
+  std::vector<double> err;
+  for (size_t i = 0; i < r.size(); ++i) {
+    same += (std::isinf(r[i]) && std::isinf(ref[i])) || std::abs(r[i] - ref[i]) <= 1e-3f;
+    if (std::isfinite(r[i]) && std::isfinite(ref[i])) err.push_back(std::abs(r[i] - ref[i]));
+  }
+  std::sort(err.begin(), err.end());
+  double sum = 0;
+  for (double e : err) sum += e;
+  j["range_err_mean_m_" + key] = err.empty() ? 0.0 : sum / double(err.size());
+  j["range_err_median_m_" + key] = err.empty() ? 0.0 : err[err.size() / 2];
+  j["range_err_p99_m_" + key] = err.empty() ? 0.0 : err[std::min(err.size() - 1, err.size() * 99 / 100)];
+  j["agree_1mm_" + key] = r.empty() ? 1.0 : double(same) / double(r.size());
+  j["rays_" + key] = r.size();
+}
+
 // Rays/s of both casters on the same rays, interleaved (the machine is shared), how often their
 // ranges agree within 1 mm (both misses agree), and the range error against Embree's exact
 // intersection where both hit.
@@ -118,21 +140,39 @@ void compareRays(const RayCaster& bsp, const RayCaster& embree, const Rays& rays
     best_b = std::max(best_b, bestRate(1, double(n), [&] { bsp.castRays(batch, {rb.data()}); }));
     best_e = std::max(best_e, bestRate(1, double(n), [&] { embree.castRays(batch, {re.data()}); }));
   }
-  size_t same = 0;
-  std::vector<double> err;  // where both hit
-  for (size_t i = 0; i < n; ++i) {
-    same += (std::isinf(rb[i]) && std::isinf(re[i])) || std::abs(rb[i] - re[i]) <= 1e-3f;
-    if (std::isfinite(rb[i]) && std::isfinite(re[i])) err.push_back(std::abs(rb[i] - re[i]));
-  }
-  std::sort(err.begin(), err.end());
-  double sum = 0;
-  for (double e : err) sum += e;
-  jb["range_err_mean_m_" + key] = err.empty() ? 0.0 : sum / double(err.size());
-  jb["range_err_p99_m_" + key] = err.empty() ? 0.0 : err[std::min(err.size() - 1, err.size() * 99 / 100)];
+  compareRanges(rb, re, jb, key);
   jb["rays_per_s_" + key] = best_b;
   je["rays_per_s_" + key] = best_e;
-  jb["agree_1mm_" + key] = double(same) / double(n);
-  jb["rays_" + key] = n;
+}
+
+// The thesis's Bresenham rows: a grid sliced at the rays' height per resolution, on the same
+// planar rays (ranges against Embree's) and points (2D: a point counts as the slice's cell).
+nlohmann::json gridRows(const Mesh& mesh, const EmbreeCaster& embree, const Rays& planar,
+                        const std::vector<Eigen::Vector3f>& pts, const std::vector<uint8_t>& free_ref,
+                        const BenchBspArgs& a) {
+  nlohmann::json rows = nlohmann::json::object();
+  std::vector<float> ref(planar.ox.size()), r(planar.ox.size());
+  embree.castRays(planar.batch(), {ref.data()});
+  for (double res : a.grid) {
+    if (!(res > 0)) continue;  // --grid 0: no Bresenham rows
+    CasterOptions o;
+    o.threads = a.threads, o.resolution = res, o.height = a.height;
+    std::unique_ptr<RayCaster> grid;
+    const auto t0 = std::chrono::steady_clock::now();
+    grid = makeCaster("grid2d", mesh, o);
+    nlohmann::json g;
+    g["build_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    g["memory_mb"] = double(casterMemoryBytes(*grid)) / 1e6;
+    g["rays_per_s_planar"] = bestRate(a.repeat, double(r.size()), [&] { grid->castRays(planar.batch(), {r.data()}); });
+    compareRanges(r, ref, g, "planar");
+    std::vector<uint8_t> f(pts.size());
+    g["point_queries_per_s"] = bestRate(a.repeat, double(pts.size()), [&] { grid->queryFree(pts, 0.f, f.data()); });
+    size_t same = 0;
+    for (size_t i = 0; i < pts.size(); ++i) same += f[i] == free_ref[i];
+    g["point_agree"] = pts.empty() ? 1.0 : double(same) / double(pts.size());
+    rows[fmt::format("{:g}", res)] = g;
+  }
+  return rows;
 }
 
 void runBenchBsp(const BenchBspArgs& a) {
@@ -160,7 +200,8 @@ void runBenchBsp(const BenchBspArgs& a) {
   jb["empty_leaves"] = s.empty_leaves;
   jb["solid_leaves"] = s.solid_leaves;
   je["build_s"] = embree_build;
-  compareRays(bsp, embree, randomRays(mesh, bsp, a.rays, a.height, true, a.seed), a.repeat, jb, je, "planar");
+  const Rays planar = randomRays(mesh, bsp, a.rays, a.height, true, a.seed);
+  compareRays(bsp, embree, planar, a.repeat, jb, je, "planar");
   compareRays(bsp, embree, randomRays(mesh, bsp, a.rays, a.height, false, a.seed), a.repeat, jb, je, "3d");
 
   const CounterRng rng(a.seed);
@@ -175,6 +216,8 @@ void runBenchBsp(const BenchBspArgs& a) {
   size_t same = 0;
   for (size_t i = 0; i < pts.size(); ++i) same += fb[i] == fe[i];
   jb["point_agree"] = double(same) / np;
+  // Bresenham rows against the BSP's free test (the exact one: winding number, raycast.md).
+  const nlohmann::json grid = gridRows(mesh, embree, planar, pts, fb, a);
   jb["point_queries_per_s_clearance"] = bestRate(a.repeat, np, [&] { bsp.queryFree(pts, a.clearance, fb.data()); });
   je["point_queries_per_s_clearance"] = bestRate(a.repeat, np, [&] { embree.queryFree(pts, a.clearance, fe.data()); });
 
@@ -186,6 +229,7 @@ void runBenchBsp(const BenchBspArgs& a) {
   j["k"] = a.k;
   j["bsp"] = jb;
   j["embree"] = je;
+  j["grid2d"] = grid;
   j["thesis_bsp_rays_per_s"] = 100000.0 / 1.3;  // Table 6.1: 2110 polygons, 2x2.0 GHz laptop
   j["thesis_point_queries_per_s"] = 3.3e6;
   if (a.json) {
@@ -199,6 +243,11 @@ void runBenchBsp(const BenchBspArgs& a) {
     fmt::print("  {:30s} bsp {:12.0f}  embree {:12.0f}\n", k, jb[k].get<double>(), je[k].get<double>());
   fmt::print("  ranges within 1 mm of embree: planar {:.4f}, 3d {:.4f}\n", jb["agree_1mm_planar"].get<double>(),
              jb["agree_1mm_3d"].get<double>());
+  for (const auto& [res, g] : grid.items())
+    fmt::print("grid2d {} m (Bresenham): build {:.3f} s, {:.2f} MB, {:.0f} planar rays/s, {:.0f} points/s, "
+               "range err median {:.4f} m\n", res, g["build_s"].get<double>(), g["memory_mb"].get<double>(),
+               g["rays_per_s_planar"].get<double>(), g["point_queries_per_s"].get<double>(),
+               g["range_err_median_m_planar"].get<double>());
 }
 
 }  // namespace
@@ -218,6 +267,8 @@ void registerBenchBsp(CLI::App& bench) {
   c.add_option("--k", a->k, "BSP score weight k of k * splits + (1 - k) * imbalance")->capture_default_str()->check(CLI::Range(0.f, 1.f));
   c.add_option("--max-candidates", a->max_candidates, "BSP planes scored per node (0 = all)")->capture_default_str();
   c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(CLI::PositiveNumber);
+  c.add_option("--grid", a->grid, "grid2d resolutions (m) of the Bresenham rows (0: none)")
+      ->capture_default_str()->delimiter(',');
   c.add_option("--seed", a->seed, "Seed of the random rays and points")->capture_default_str();
   c.add_flag("--json", a->json, "Print one JSON object on stdout");
   c.callback([a] { runBenchBsp(*a); });

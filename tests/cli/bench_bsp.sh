@@ -10,10 +10,23 @@ for key in build_s memory_mb nodes depth rays_per_s_planar rays_per_s_3d point_q
   grep -q "\"$key\":" <<<"$out" || { echo "missing key $key"; exit 1; }
 done
 grep -q '"embree":{' <<<"$out"
-for kind in planar 3d; do
-  agree=$(sed -E "s/.*\"agree_1mm_$kind\":([0-9.e+-]+).*/\1/" <<<"$out")
-  awk -v a="$agree" 'BEGIN { exit !(a >= 0.999) }' || { echo "agreement $kind $agree"; exit 1; }
-done
+python3 -c 'import json, sys
+b = json.loads(sys.argv[1])["bsp"]
+for kind in ("planar", "3d"):
+    assert b["agree_1mm_" + kind] >= 0.999, (kind, b["agree_1mm_" + kind])' "$out"
+# The Bresenham rows (grid2d at 5, 4, 1 cm on the same planar rays): ranges within about a cell
+# of Embree's at the median, finer grids closer, and a 1 cm grid holding more memory.
+python3 - "$out" <<'PY'
+import json, sys
+g = json.loads(sys.argv[1])["grid2d"]
+assert sorted(g) == ["0.01", "0.04", "0.05"], sorted(g)
+for res, row in g.items():
+    assert row["rays_per_s_planar"] > 0 and row["point_queries_per_s"] > 0, row
+    assert row["range_err_median_m_planar"] <= float(res), (res, row["range_err_median_m_planar"])
+    assert row["point_agree"] > 0.7, row
+assert g["0.01"]["range_err_median_m_planar"] < g["0.05"]["range_err_median_m_planar"]
+assert g["0.01"]["memory_mb"] > 10 * g["0.05"]["memory_mb"]
+PY
 # The thesis-sized model: the lab's walls, floor, doors, glass, ramp, tables and cabinets.
 small=$("$polyloc" bench bsp --map "$src/maps/lab.obj" --labels wall,floor,door,glass,ramp,table,cabinet \
   --rays 500 --points 500 --repeat 1 --json)
