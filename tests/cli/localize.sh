@@ -38,6 +38,19 @@ assert csv[0].startswith("stamp_ns,x,y,z,") and "pos_err_m" in csv[0], csv[0]
 assert len(csv) == 1 + j["evaluated_frames"]
 PY
 [ "$(head -c 8 "$tmp/loc.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]
+# The same run localised on a 2D grid (mcl.caster grid2d, sliced at the LMS200s' 0.20 m): a grid
+# deployment of the same filter; a sensor the rig lacks is a config error naming file and line.
+cat >"$tmp/grid.yaml" <<YAML
+map: $src/maps/office.obj
+robot: {footprint: [[0.35, 0.3], [-0.35, 0.3], [-0.35, -0.3], [0.35, -0.3]], height: 1.5, kinematics: differential}
+rig: $src/maps/rigs/taser.yaml
+mcl: {caster: grid2d, caster_resolution: 0.05, refine: {enabled: true}}
+YAML
+out=$("$polyloc" localize --config "$tmp/grid.yaml" --input "$tmp/run.mcap" --json 2>"$tmp/err")
+python3 -c 'import json,sys; j=json.loads(sys.argv[1]); assert j["ate_rmse_m"] < 0.3 and j["updates"] > 10, j' "$out"
+sed -i 's/caster: grid2d, /caster: grid2d, sensors: [lms_front, lms_side], /' "$tmp/grid.yaml"
+if "$polyloc" localize --config "$tmp/grid.yaml" --input "$tmp/run.mcap" 2>"$tmp/err"; then exit 1; fi
+grep -q "grid.yaml:4:.*mcl.sensors.*'lms_side' is not in rig" "$tmp/err" || { cat "$tmp/err"; exit 1; }
 # CARMEN: FLASER goes to the taser's first planar scanner, an LMS200 with 361 beams; FLASER
 # with 3 ranges is rejected, counted and warned about once; the run ends normally.
 {
