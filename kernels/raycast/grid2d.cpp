@@ -3,6 +3,8 @@
 #include "grid_dt.hpp"
 
 
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -174,7 +176,11 @@ Grid2dCaster::Grid2dCaster(const Mesh& mesh, const Grid2dOptions& o)
   const double w = b.sizes().x() + 2 * o.padding, h = b.sizes().y() + 2 * o.padding;
   m.nx = size_t(std::ceil(w / o.resolution)) + 1;
   m.ny = size_t(std::ceil(h / o.resolution)) + 1;
-  if (double(m.nx) * double(m.ny) > 4e9) throw std::invalid_argument("Grid2dCaster: grid too large");
+  // 8 bytes per cell (triangle + clearance): past ~4 GB a typo in the resolution, not a map.
+  if (double(m.nx) * double(m.ny) > 5e8)
+    throw std::invalid_argument(fmt::format("Grid2dCaster: {} x {} cells at {} m ({:.1f} GB) is too large for "
+                                            "this map; use a coarser resolution", m.nx, m.ny, o.resolution,
+                                            double(m.nx) * double(m.ny) * 8e-9));
   m.cell.assign(m.nx * m.ny, kNoHit);
   m.labels = mesh.triangle_label;
   const std::vector<SliceSegment> segs = sliceMesh(mesh, float(o.height));
