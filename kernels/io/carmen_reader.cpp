@@ -233,6 +233,15 @@ class CarmenSource {
   void emit(const std::string& topic, int64_t ns, msg::Message m) {
     pending_.push_back(RecordedMessage{topic, ns, ns, std::move(m)});
   }
+  // The logged laser pose (corrected logs: the known pose), right after its scan on
+  // <scan topic>_pose, so that a consumer pairs a scan with the next message on that topic.
+  void emitPose(const std::string& scan_topic, int64_t ns, double x, double y, double yaw) {
+    msg::PoseStamped p;
+    p.header = {msg::fromNs(ns), "world"};
+    p.pose.position = {x, y, 0};
+    p.pose.orientation = yawQuaternion(yaw);
+    emit(scan_topic + "_pose", ns, std::move(p));
+  }
 
   // FLASER/RLASER num_readings [ranges] x y theta odom_x odom_y odom_theta ipc_ts host logger_ts
   void oldLaser(ReadStats& stats, const std::string& topic, const char* frame, const LaserParams& p) {
@@ -249,7 +258,7 @@ class CarmenSource {
       return;
     }
     msg::LaserScan scan;
-    double poses[6];  // robot and odometry pose: read to validate the line, not used
+    double poses[6];  // laser pose in the world (published), odometry pose (validated only)
     if (!ranges(stats, 2, *n, scan.ranges) || !numbers(stats, 2 + *n, 6, poses)) return;
     const auto ns = stamp(stats, 8 + *n);
     if (!ns) return;
@@ -263,6 +272,7 @@ class CarmenSource {
     scan.angle_max = static_cast<float>(-fov / 2 + inc * (*n > 0 ? double(*n - 1) : 0.0));
     scan.range_max = static_cast<float>(p.max_range);
     emit(topic, *ns, std::move(scan));
+    emitPose(topic, *ns, poses[0], poses[1], poses[2]);
   }
 
   // ROBOTLASER1 type start_angle fov resolution max_range accuracy remission_mode
@@ -320,6 +330,7 @@ class CarmenSource {
       emit("/tf", *ns, msg::TFMessage{{tf}});
     }
     emit("/robot_laser", *ns, std::move(scan));
+    emitPose("/robot_laser", *ns, tail[0], tail[1], tail[2]);
   }
 
   // ODOM x y theta tv rv accel ipc_ts host logger_ts

@@ -16,8 +16,8 @@ status=0
 grep -q "no_such_log.clf" "$tmp/err" || fail "missing file: message does not name it: $(cat "$tmp/err")"
 grep -q "does not exist" "$tmp/err" || fail "missing file: message does not say why: $(cat "$tmp/err")"
 
-# Odometry at 10 Hz for 2 s (21 messages), a front laser at 5 Hz (11), one unknown type twice,
-# one malformed line.
+# Odometry at 10 Hz for 2 s (21 messages), a front laser at 5 Hz (11, each with its laser pose),
+# one unknown type twice, one malformed line.
 {
   echo "# written by info.sh"
   echo "PARAM robot_front_laser_max 50.0 100.0 host 0.0"
@@ -43,9 +43,10 @@ r = json.load(open(sys.argv[1]))
 assert r["format"] == "carmen" and r["path"] == sys.argv[2], r
 assert abs(r["duration_s"] - 2.0) < 1e-9, r["duration_s"]
 assert r["start_ns"] == 100_000_000_000 and r["end_ns"] == 102_000_000_000, r
-assert r["messages"] == 32, r
+assert r["messages"] == 43, r
 t = r["topics"]
-assert set(t) == {"/odom", "/front_laser"}, t
+assert set(t) == {"/odom", "/front_laser", "/front_laser_pose"}, t
+assert t["/front_laser_pose"]["type"] == "geometry_msgs/msg/PoseStamped" and t["/front_laser_pose"]["count"] == 11, t
 assert t["/odom"] == {"type": "nav_msgs/msg/Odometry", "count": 21, "rate_hz": 10.0}, t["/odom"]
 assert t["/front_laser"]["type"] == "sensor_msgs/msg/LaserScan" and t["/front_laser"]["count"] == 11, t
 assert abs(t["/front_laser"]["rate_hz"] - 5.0) < 1e-9, t

@@ -1,6 +1,6 @@
-// CARMEN logs: every supported message checked field by field, the same log gzipped, malformed
-// lines counted with file:line, and truncated or bit-flipped logs (plain and gzip) that must
-// never crash the reader.
+// CARMEN logs: every supported message checked field by field (with the laser pose that follows
+// each scan), the same log gzipped, malformed lines counted with file:line, and truncated or
+// bit-flipped logs (plain and gzip) that must never crash the reader.
 #include <polyloc/geometry/pose.hpp>
 #include <polyloc/io/recording.hpp>
 
@@ -53,8 +53,26 @@ std::string slurp(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
+// A laser pose message: topic, stamp, frame "world", position and yaw.
+void expectPose(const RecordedMessage& m, const std::string& topic, int64_t ns, double x, double y, double yaw) {
+  EXPECT_EQ(m.topic, topic);
+  EXPECT_EQ(m.log_time_ns, ns);
+  EXPECT_EQ(m.publish_time_ns, ns);
+  ASSERT_TRUE(std::holds_alternative<msg::PoseStamped>(m.message)) << msg::typeName(m.message);
+  const auto& p = std::get<msg::PoseStamped>(m.message);
+  EXPECT_EQ(p.header.frame_id, "world");
+  EXPECT_EQ(msg::toNs(p.header.stamp), ns);
+  EXPECT_DOUBLE_EQ(p.pose.position.x, x);
+  EXPECT_DOUBLE_EQ(p.pose.position.y, y);
+  EXPECT_DOUBLE_EQ(p.pose.position.z, 0.0);
+  EXPECT_NEAR(p.pose.orientation.x, 0.0, 1e-15);
+  EXPECT_NEAR(p.pose.orientation.y, 0.0, 1e-15);
+  EXPECT_NEAR(p.pose.orientation.z, std::sin(yaw / 2), 1e-12);
+  EXPECT_NEAR(p.pose.orientation.w, std::cos(yaw / 2), 1e-12);
+}
+
 void checkHandWrittenLog(const std::vector<RecordedMessage>& m) {
-  ASSERT_EQ(m.size(), 8u);
+  ASSERT_EQ(m.size(), 13u);
   // ODOM
   EXPECT_EQ(m[0].topic, "/odom");
   EXPECT_EQ(m[0].log_time_ns, 1000250000000);
@@ -80,25 +98,28 @@ void checkHandWrittenLog(const std::vector<RecordedMessage>& m) {
   EXPECT_FLOAT_EQ(f.angle_increment, float(deg2rad(0.5)));
   EXPECT_FLOAT_EQ(f.angle_max, float(-M_PI / 2 + deg2rad(1.0)));
   EXPECT_FLOAT_EQ(f.range_max, 50.0f);
+  // Right after it, the logged laser pose (x y theta), not the odometry pose after it.
+  expectPose(m[2], "/front_laser_pose", 1000500000000, 1.5, -2.0, 0.5);
   // RLASER with the defaults: 1 deg, 80 m
-  EXPECT_EQ(m[2].topic, "/rear_laser");
-  const auto& r = std::get<msg::LaserScan>(m[2].message);
+  EXPECT_EQ(m[3].topic, "/rear_laser");
+  const auto& r = std::get<msg::LaserScan>(m[3].message);
   EXPECT_EQ(r.header.frame_id, "rear_laser");
   EXPECT_EQ(r.ranges, (std::vector<float>{4.0f, 5.0f}));
   EXPECT_FLOAT_EQ(r.angle_increment, float(deg2rad(1.0)));
   EXPECT_FLOAT_EQ(r.range_max, 80.0f);
-  // ROBOTLASER1: the mount first, then the scan
-  EXPECT_EQ(m[3].topic, "/tf");
-  EXPECT_EQ(m[3].log_time_ns, 1001000000000);
-  const auto& tf = std::get<msg::TFMessage>(m[3].message);
+  expectPose(m[4], "/rear_laser_pose", 1000600000000, 1.5, -2.0, 0.5);
+  // ROBOTLASER1: the mount first, then the scan, then its laser pose
+  EXPECT_EQ(m[5].topic, "/tf");
+  EXPECT_EQ(m[5].log_time_ns, 1001000000000);
+  const auto& tf = std::get<msg::TFMessage>(m[5].message);
   ASSERT_EQ(tf.transforms.size(), 1u);
   EXPECT_EQ(tf.transforms[0].header.frame_id, "base_link");
   EXPECT_EQ(tf.transforms[0].child_frame_id, "laser");
   EXPECT_NEAR(tf.transforms[0].transform.translation.x, 0.1, 1e-9);
   EXPECT_NEAR(tf.transforms[0].transform.translation.y, 0.0, 1e-9);
   EXPECT_NEAR(tf.transforms[0].transform.rotation.z, 0.0, 1e-9);
-  EXPECT_EQ(m[4].topic, "/robot_laser");
-  const auto& s = std::get<msg::LaserScan>(m[4].message);
+  EXPECT_EQ(m[6].topic, "/robot_laser");
+  const auto& s = std::get<msg::LaserScan>(m[6].message);
   EXPECT_EQ(s.header.frame_id, "laser");
   EXPECT_EQ(msg::toNs(s.header.stamp), 1001000000000);
   ASSERT_EQ(s.ranges.size(), 3u);
@@ -110,17 +131,21 @@ void checkHandWrittenLog(const std::vector<RecordedMessage>& m) {
   EXPECT_FLOAT_EQ(s.angle_increment, 1.5f);
   EXPECT_FLOAT_EQ(s.angle_max, 1.5f);
   EXPECT_FLOAT_EQ(s.range_max, 30.0f);
+  // laser_x laser_y laser_theta, not the robot pose
+  expectPose(m[7], "/robot_laser_pose", 1001000000000, 1.0, 2.1, 1.5707963267948966);
   // Same mount: no new /tf. No remissions: no intensities.
-  EXPECT_EQ(m[5].topic, "/robot_laser");
-  EXPECT_EQ(m[5].log_time_ns, 1001100000000);
-  EXPECT_TRUE(std::get<msg::LaserScan>(m[5].message).intensities.empty());
+  EXPECT_EQ(m[8].topic, "/robot_laser");
+  EXPECT_EQ(m[8].log_time_ns, 1001100000000);
+  EXPECT_TRUE(std::get<msg::LaserScan>(m[8].message).intensities.empty());
+  expectPose(m[9], "/robot_laser_pose", 1001100000000, 1.0, 2.1, 1.5707963267948966);
   // New mount: /tf again.
-  EXPECT_EQ(m[6].topic, "/tf");
-  const auto& tf2 = std::get<msg::TFMessage>(m[6].message).transforms.at(0).transform;
+  EXPECT_EQ(m[10].topic, "/tf");
+  const auto& tf2 = std::get<msg::TFMessage>(m[10].message).transforms.at(0).transform;
   EXPECT_NEAR(tf2.translation.y, 0.2, 1e-9);
   EXPECT_NEAR(tf2.rotation.z, std::sin(0.05), 1e-9);
-  EXPECT_EQ(m[7].topic, "/robot_laser");
-  EXPECT_EQ(std::get<msg::LaserScan>(m[7].message).ranges, std::vector<float>{7.0f});
+  EXPECT_EQ(m[11].topic, "/robot_laser");
+  EXPECT_EQ(std::get<msg::LaserScan>(m[11].message).ranges, std::vector<float>{7.0f});
+  expectPose(m[12], "/robot_laser_pose", 1001200000000, 0.0, 0.2, 0.1);
 }
 
 TEST(Carmen, HandWrittenLogFieldByField) {
@@ -128,7 +153,7 @@ TEST(Carmen, HandWrittenLogFieldByField) {
   auto r = openRecording(dir.write("hand.log", kLog));
   EXPECT_EQ(r->format(), "carmen");
   checkHandWrittenLog(readAll(*r));
-  EXPECT_EQ(r->stats().messages, 8u);
+  EXPECT_EQ(r->stats().messages, 13u);
   // TRUEPOS twice: one warning for the type.
   EXPECT_EQ(r->stats().rejected, 1u);
   ASSERT_EQ(r->stats().warnings.size(), 1u);
@@ -153,21 +178,26 @@ TEST(Carmen, TopicsByStreamingPassDoNotDisturbNext) {
   RecordedMessage first;
   ASSERT_TRUE(r->next(first));
   const auto topics = r->topics();
-  ASSERT_EQ(topics.size(), 5u);
+  ASSERT_EQ(topics.size(), 8u);
   EXPECT_EQ(topics[0].name, "/odom");
   EXPECT_EQ(topics[0].type, "nav_msgs/msg/Odometry");
-  EXPECT_EQ(topics[4].name, "/robot_laser");
-  EXPECT_EQ(topics[4].type, "sensor_msgs/msg/LaserScan");
-  EXPECT_EQ(topics[4].count, 3u);
-  EXPECT_EQ(topics[4].first_ns, 1001000000000);
-  EXPECT_EQ(topics[4].last_ns, 1001200000000);
-  EXPECT_NEAR(topics[4].rateHz(), 10.0, 1e-9);
-  EXPECT_EQ(topics[3].name, "/tf");
-  EXPECT_EQ(topics[3].count, 2u);
+  EXPECT_EQ(topics[2].name, "/front_laser_pose");
+  EXPECT_EQ(topics[2].type, "geometry_msgs/msg/PoseStamped");
+  EXPECT_EQ(topics[2].count, 1u);
+  EXPECT_EQ(topics[6].name, "/robot_laser");
+  EXPECT_EQ(topics[6].type, "sensor_msgs/msg/LaserScan");
+  EXPECT_EQ(topics[6].count, 3u);
+  EXPECT_EQ(topics[6].first_ns, 1001000000000);
+  EXPECT_EQ(topics[6].last_ns, 1001200000000);
+  EXPECT_NEAR(topics[6].rateHz(), 10.0, 1e-9);
+  EXPECT_EQ(topics[7].name, "/robot_laser_pose");
+  EXPECT_EQ(topics[7].count, 3u);
+  EXPECT_EQ(topics[5].name, "/tf");
+  EXPECT_EQ(topics[5].count, 2u);
   auto rest = readAll(*r);
-  EXPECT_EQ(rest.size(), 7u);
+  EXPECT_EQ(rest.size(), 12u);
   EXPECT_EQ(rest[0].topic, "/front_laser");
-  EXPECT_EQ(r->stats().messages, 8u);
+  EXPECT_EQ(r->stats().messages, 13u);
 }
 
 TEST(Carmen, MalformedLinesAreCountedWithFileAndLine) {
@@ -218,7 +248,7 @@ TEST(Carmen, TruncatedAndBitFlippedLogsNeverCrash) {
   const std::string gz = slurp(dir.file("long.gz"));
   {
     auto r = openCarmen(dir.write("long.log", log));
-    EXPECT_EQ(readAll(*r).size(), 60u * 4 + 3);  // + one /tf for each of the 3 mounts
+    EXPECT_EQ(readAll(*r).size(), 60u * 7 + 3);  // 4 messages, 3 laser poses; one /tf per mount
     EXPECT_EQ(r->stats().rejected, 0u);
   }
   std::mt19937 rng(11);
@@ -240,7 +270,7 @@ TEST(Carmen, TruncatedAndBitFlippedLogsNeverCrash) {
     std::vector<RecordedMessage> got;
     ASSERT_NO_THROW(got = readAll(*r)) << "trial " << trial;
     ASSERT_NO_THROW(r->topics()) << "trial " << trial;
-    EXPECT_LE(got.size(), 60u * 4 + 3 + 40);
+    EXPECT_LE(got.size(), 60u * 7 + 3 + 40);
     for (const auto& w : r->stats().warnings) EXPECT_EQ(w.rfind(path + ":", 0), 0u) << w;
   }
   // A truncated gzip says so.

@@ -1,6 +1,7 @@
 // `polyloc ctl` end to end against the control server with the fake handler in this process:
 // what a person types, what comes back (text and --json), and the errors.
 #include "protocol_fixtures.hpp"
+#include "run_command.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,22 +14,11 @@ using polyloc::protocol::fake::TestServer;
 
 namespace {
 
-struct CtlRun {
-  int rc = -1;
-  std::string out;  // stdout and stderr
-};
+using CtlRun = polyloc::test::CommandRun;  // out: stdout and stderr
 
 CtlRun ctl(const TestServer& t, const std::string& args) {
-  const std::string command =
-      std::string(POLYLOC_CLI) + " ctl --port " + std::to_string(t.server.port()) + " " + args + " 2>&1";
-  CtlRun r;
-  FILE* p = ::popen(command.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) r.out.append(buf, n);
-  const int status = ::pclose(p);
-  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return polyloc::test::runCommand(std::string(POLYLOC_CLI) + " ctl --port " + std::to_string(t.server.port()) + " " +
+                                   args + " 2>&1");
 }
 
 nlohmann::json ctlJson(const TestServer& t, const std::string& args) {

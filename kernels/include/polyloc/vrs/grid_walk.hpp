@@ -1,5 +1,5 @@
 // Bresenham's line over grid cells, shared by the obstacle memory and the danger zones (both
-// read their grids back along each VRS segment's ray).
+// read their grids back along each VRS segment's ray) and map/scan_mapper (each beam's cells).
 #pragma once
 
 #include <cstdint>
