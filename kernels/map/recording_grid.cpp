@@ -48,7 +48,7 @@ OccupancyGrid gridFromRecording(RecordingReader& reader, const std::vector<std::
     const Pose laser = fromMsgPose(pose->pose);
     const auto added = mapper.add(laser.x(), laser.y(), laser.yaw(), s->ranges.data(), s->ranges.size(), s->angle_min,
                                   s->angle_increment, s->range_min, s->range_max);
-    if (added == ScanMapper::Added::Used) ++st.scans_used;
+    if (added == ScanMapper::Added::Used) ++st.scans_used, st.laser_path.push_back({float(laser.x()), float(laser.y())});
     else ++st.skipped[reason(added)];
     s.reset();
   }

@@ -11,11 +11,14 @@
 #include <polyloc/map/recording_grid.hpp>
 #include <polyloc/map/validate.hpp>
 
+#include "viz/topview.hpp"
+
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -24,14 +27,14 @@ namespace polyloc::cli {
 namespace {
 
 struct MapExtrudeArgs {
-  std::string grid, carmen, out, laser = "all", save_grid;
+  std::string grid, carmen, out, laser = "all", save_grid, plot;
   ScanMapperConfig mapper;
   ExtrudeOptions options;
   bool no_merge = false, json = false;
 };
 
 // The grid of a CARMEN log's scans at their logged laser poses; what was used goes into j.
-OccupancyGrid gridFromCarmen(const MapExtrudeArgs& a, nlohmann::json& j) {
+OccupancyGrid gridFromCarmen(const MapExtrudeArgs& a, nlohmann::json& j, std::vector<std::array<float, 2>>& path) {
   std::vector<std::string> topics;
   for (const char* l : {"front", "rear", "robot"})
     if (a.laser == "all" || a.laser == l) topics.push_back(fmt::format("/{}_laser", l));
@@ -52,12 +55,31 @@ OccupancyGrid gridFromCarmen(const MapExtrudeArgs& a, nlohmann::json& j) {
     saveGridMap(grid, a.save_grid, {a.mapper.occupied_thresh, a.mapper.free_thresh});
     j["saved_grid"] = a.save_grid;
   }
+  path = std::move(st.laser_path);
   return grid;
+}
+
+// The grid's cells, the extruded walls sliced at half their height (red), and for a CARMEN log
+// the lasers' path (blue): what came in, what went out, and from where it was seen.
+void drawExtrusion(const OccupancyGrid& grid, const Mesh& mesh, const std::vector<std::array<float, 2>>& path,
+                   const std::string& title, const std::string& png) {
+  const Eigen::AlignedBox3f b3 = mesh.bounds();
+  const Eigen::AlignedBox2f b(b3.min().head<2>(), b3.max().head<2>());
+  const float extent = std::max(b.sizes().x(), b.sizes().y());
+  viz::TopView view(b, std::clamp(4000.f / std::max(extent, 1.f), 1.f, 40.f));
+  view.drawGrid(grid);
+  view.drawMeshSlice(mesh, 0.5f * float(b3.max().z()), &viz::kRed, 1);
+  for (size_t i = 1; i < path.size(); ++i)
+    view.drawLine({path[i - 1][0], path[i - 1][1]}, {path[i][0], path[i][1]}, viz::kBlue, 2);
+  view.drawLegend(title);
+  view.drawScaleBar();
+  view.save(png);
 }
 
 void run(const MapExtrudeArgs& a) {
   nlohmann::json j;
-  const OccupancyGrid grid = a.grid.empty() ? gridFromCarmen(a, j) : loadGridMap(a.grid);
+  std::vector<std::array<float, 2>> path;  // --carmen: laser positions of the scans used
+  const OccupancyGrid grid = a.grid.empty() ? gridFromCarmen(a, j, path) : loadGridMap(a.grid);
   const std::string& source = a.grid.empty() ? a.carmen : a.grid;
   ExtrudeOptions o = a.options;
   o.merge = !a.no_merge;
@@ -68,6 +90,13 @@ void run(const MapExtrudeArgs& a) {
     throw std::runtime_error("extruded map is not closed and consistently wound:\n" + r.summary());
   if (auto dir = std::filesystem::path(a.out).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
   saveMesh(mesh, a.out);
+  if (!a.plot.empty()) {
+    drawExtrusion(grid, mesh, path,
+                  fmt::format("polyloc map extrude {}\n{} x {} cells at {} m: black occupied, grey unknown; red: "
+                              "extruded walls at half height{}", source, grid.width, grid.height, grid.resolution,
+                              path.empty() ? "" : "; blue: laser path"), a.plot);
+    j["plot"] = a.plot;
+  }
   if (!a.grid.empty()) j["grid"] = a.grid;
   j.update({{"out", a.out},
             {"cells_x", grid.width},   {"cells_y", grid.height},
@@ -104,6 +133,7 @@ void registerMapExtrude(CLI::App& map) {
   // Merging is the default; the flag spells it out, --no-merge makes one box per cell.
   c->add_flag("--resolution-merge", [](int64_t) {}, "Merge runs of cells into boxes (default)");
   c->add_flag("--no-merge", a->no_merge, "One box per occupied cell");
+  c->add_option("--plot", a->plot, "PNG: the grid, the extruded walls and (--carmen) the laser path");
   c->add_flag("--json", a->json, "Print one JSON object on stdout");
   c->callback([a, c] {
     if (a->grid.empty() == a->carmen.empty()) throw CLI::ValidationError("map extrude", "give exactly one of --grid and --carmen");

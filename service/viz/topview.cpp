@@ -61,6 +61,18 @@ void TopView::drawMeshSlice(const Mesh& mesh, float height, const Color* color, 
   }
 }
 
+void TopView::drawGrid(const OccupancyGrid& g) {
+  const float r = float(g.resolution);
+  for (size_t y = 0; y < g.height; ++y)
+    for (size_t x = 0; x < g.width; ++x) {
+      const int8_t v = g.at(x, y);
+      if (v == OccupancyGrid::kFree) continue;
+      const Eigen::Vector2f lo(float(g.origin_x) + r * float(x), float(g.origin_y) + r * float(y));
+      const cv::Scalar c = v == OccupancyGrid::kOccupied ? cv::Scalar(0, 0, 0) : cv::Scalar(215, 215, 215);
+      cv::rectangle(canvas_->img, canvas_->px(lo), canvas_->px(lo + Eigen::Vector2f(r, r)), c, cv::FILLED);
+    }
+}
+
 void TopView::drawLine(const Eigen::Vector2f& a, const Eigen::Vector2f& b, Color c, int thickness) {
   cv::line(canvas_->img, canvas_->px(a), canvas_->px(b), bgr(c), thickness, cv::LINE_AA);
 }

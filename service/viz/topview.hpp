@@ -3,6 +3,7 @@
 #pragma once
 
 #include <polyloc/geometry/pose.hpp>
+#include <polyloc/map/grid_map.hpp>
 #include <polyloc/map/mesh.hpp>
 
 #include <Eigen/Geometry>
@@ -27,6 +28,9 @@ class TopView {
 
   // Slice of the mesh at `height`, coloured by label (or `color` for every label when given).
   void drawMeshSlice(const Mesh& mesh, float height, const Color* color = nullptr, int thickness = 2);
+  // Cells of an occupancy grid as filled squares: occupied black, free white (the background),
+  // unknown light grey (map_server's picture).
+  void drawGrid(const OccupancyGrid& grid);
   void drawLine(const Eigen::Vector2f& a, const Eigen::Vector2f& b, Color c, int thickness = 1);
   void drawPoint(const Eigen::Vector2f& p, Color c, int radius_px = 2);
   // Robot as a circle with a heading tick.

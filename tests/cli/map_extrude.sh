@@ -49,7 +49,9 @@ with open(sys.argv[1], "w") as f:
     f.write("FLASER 2 0 0 0 0 0 0 0 0 200.0 host 0\n")
     f.write("FLASER 2 1 1 0 0 oops 0 0 0 200.1 host 0\n")
 PY
-out=$("$polyloc" map extrude --carmen "$tmp/room.log" --out "$tmp/room.obj" --save-grid "$tmp/room_grid.yaml" --json 2>"$tmp/err")
+out=$("$polyloc" map extrude --carmen "$tmp/room.log" --out "$tmp/room.obj" --save-grid "$tmp/room_grid.yaml" \
+  --plot "$tmp/room.png" --json 2>"$tmp/err")
+[ "$(head -c 8 "$tmp/room.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]
 echo "$out"
 python3 - "$out" "$tmp/room.log" <<'PY'
 import json, sys

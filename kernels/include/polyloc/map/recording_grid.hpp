@@ -8,6 +8,7 @@
 #include <polyloc/io/recording.hpp>
 #include <polyloc/map/scan_mapper.hpp>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -20,6 +21,7 @@ struct RecordingGridStats {
   // reason -> scans: "no_pose" (no pose before the next scan or the end), "bad_pose",
   // "bad_geometry", "no_valid_ranges", "too_large" (see ScanMapper::Added)
   std::map<std::string, uint64_t> skipped;
+  std::vector<std::array<float, 2>> laser_path;  // x, y of every used scan's laser, in order
   uint64_t scansSkipped() const {
     uint64_t n = 0;
     for (const auto& [why, count] : skipped) n += count;
