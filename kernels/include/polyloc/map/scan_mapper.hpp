@@ -70,7 +70,7 @@ class ScanMapper {
   int64_t ox_ = 0, oy_ = 0;
   size_t w_ = 0, h_ = 0;
   std::vector<float> logodds_;
-  std::vector<uint32_t> last_scan_;  // 1-based number of the scan that last updated it; 0: never
+  std::vector<uint32_t> last_scan_;  // 2 x (scan number + 1), +1 if that scan hit it; 0: never observed
   struct Beam { int64_t i, j; bool hit; };  // end cell of a beam of the current scan
   std::vector<Beam> beams_;          // scratch of add(), kept to not allocate per scan
   std::vector<size_t> touched_;      // cells the current scan updates
