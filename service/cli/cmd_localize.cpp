@@ -154,7 +154,7 @@ void registerLocalize(CLI::App& app) {
   cmd.add_flag("--global", args->global, "Global localisation (default without --init: the first ground-truth pose, if any)");
   cmd.add_option("--init-sigma", args->init_sigma, "Start spread xy_m,yaw_deg for --init and ground-truth starts")->capture_default_str();
   cmd.add_option("--ground-truth", args->ground_truth, "Ground truth as TUM (default: the recording's /ground_truth)");
-  cmd.add_option("--sensors", args->sensors, "Rig sensors whose frames are used, comma-separated (default: all)");
+  cmd.add_option("--sensors", args->sensors, "Rig sensors whose frames are used, comma-separated (default: all; the filter also weighs only the config's mcl.sensors)");
   cmd.add_option("--out", args->out, "Write the estimate after each update as TUM");
   cmd.add_option("--plot", args->plot, "Draw map, ground truth, estimate and particle clouds as PNG");
   cmd.add_option("--csv", args->csv, "Per-frame estimate (and errors, with ground truth) as CSV");

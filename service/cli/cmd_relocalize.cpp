@@ -131,7 +131,7 @@ void registerRelocalize(CLI::App& app) {
   cmd.add_option("--segment", b.segment_s, "Split recordings into segments of this many seconds (0: whole)")->capture_default_str();
   cmd.add_option("--warmup", b.warmup_s, "Seconds the filter runs before each segment but the first")->capture_default_str();
   cmd.add_option("--covariance", args->covariance, "CSV covariance columns: diag or full")->capture_default_str();
-  cmd.add_option("--sensors", args->sensors, "Rig sensors whose frames are used, comma-separated (default: all)");
+  cmd.add_option("--sensors", args->sensors, "Rig sensors whose frames are used, comma-separated (default: all; the filter also weighs only the config's mcl.sensors)");
   cmd.add_flag("--json", args->json, "Print the summary (DIR/summary.json) as one JSON object");
   cmd.callback([args] { runRelocalize(*args); });
 }
