@@ -201,9 +201,11 @@ TEST(ShmCAbi, ExampleControllerGetsItsPose) {
   auto seg = Segment::create(name, test::rigChannels());
   seg.ready();
   bool scan_ok = false, odom_ok = false;
+  // Attached before the controller starts: a reader made in the thread could come after the
+  // controller's scan on a loaded machine, and Start::Next would then never see it.
+  Reader scan(seg, seg.find("scan/front")), odom(seg, seg.find("odom"));
+  Writer pose(seg, seg.find("pose"));
   std::thread daemon([&] {
-    Reader scan(seg, seg.find("scan/front")), odom(seg, seg.find("odom"));
-    Writer pose(seg, seg.find("pose"));
     std::vector<uint8_t> p;
     if (!scan.wait(10'000'000'000)) return;
     if (auto f = scan.next(p)) {
