@@ -7,8 +7,6 @@
 
 #include <polyloc/geometry/closest_point.hpp>
 #include <polyloc/raycast/bsp.hpp>
-#include <polyloc/raycast/cast_arena.hpp>
-
 
 #include <chrono>
 #include <cmath>
@@ -32,7 +30,6 @@ struct BspCaster::Impl {
   bsp::Tree tree;
   Mesh mesh;  // triangles and labels for hit reporting
   BspStats stats;
-  CastArena pool;
 
   Crossing cross(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t0, float t1) const {
     struct Entry {
@@ -151,7 +148,8 @@ struct BspCaster::Impl {
   }
 };
 
-BspCaster::BspCaster(const Mesh& mesh, const BspOptions& options) : impl_(new Impl) {
+BspCaster::BspCaster(const Mesh& mesh, const BspOptions& options)
+    : PerRayCaster(options.threads), impl_(new Impl) {
   const auto start = std::chrono::steady_clock::now();
   Impl& m = *impl_;
   if (mesh.triangles.empty()) throw std::invalid_argument("BspCaster: the map has no triangles");
@@ -171,52 +169,22 @@ BspCaster::BspCaster(const Mesh& mesh, const BspOptions& options) : impl_(new Im
   m.stats.triangle_ref_bytes = m.tree.tris.size() * sizeof(uint32_t);
   m.stats.build_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  setThreads(options.threads);
 }
 
 BspCaster::~BspCaster() = default;
 
 const BspStats& BspCaster::stats() const { return impl_->stats; }
 
-void BspCaster::setThreads(int threads) { impl_->pool.resize(threads); }
-
-int BspCaster::threads() const { return impl_->pool.threads(); }
-
-void BspCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
-                          const HitBuffers& out, const ScanWindow& window) const {
-  const Impl& m = *impl_;
-  const size_t nb = beams.size();
-  if (nb == 0 || poses.empty()) return;
-  const CastOptions opt = options;
-  m.pool.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
-    for (size_t p = p0; p < p1; ++p) {
-      const Eigen::Matrix3f R = poses[p].rotation().toRotationMatrix().cast<float>();
-      const Eigen::Vector3f o = poses[p].translation().cast<float>();
-      for (size_t b = 0; b < nb; ++b) {
-        const Eigen::Vector3f d = R * Eigen::Vector3f(beams.dx[b], beams.dy[b], beams.dz[b]);
-        const float t0 = window.tmin ? std::max(beams.range_min, window.tmin[b]) : beams.range_min;
-        const float t1 = window.tmax ? std::min(beams.range_max, window.tmax[b]) : beams.range_max;
-        m.castOne(o, d, t0, t1, opt, out, p * nb + b);
-      }
-    }
-  });
-}
-
-void BspCaster::castRays(const RayBatch& rays, const HitBuffers& out) const {
-  const Impl& m = *impl_;
-  const CastOptions opt = options;
-  m.pool.parallel(rays.count, 256, [&](size_t i0, size_t i1) {
-    for (size_t i = i0; i < i1; ++i)
-      m.castOne({rays.ox[i], rays.oy[i], rays.oz[i]}, {rays.dx[i], rays.dy[i], rays.dz[i]},
-                rays.tmin ? rays.tmin[i] : 0.f, rays.tmax ? rays.tmax[i] : kInf, opt, out, i);
-  });
+void BspCaster::traceRay(const HitBuffers& out, size_t i, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
+                         float t0, float t1, const CastOptions& opt) const {
+  impl_->castOne(o, d, t0, t1, opt, out, i);
 }
 
 void BspCaster::queryFree(std::span<const Eigen::Vector3f> points, float clearance,
                           uint8_t* free) const {
   const Impl& m = *impl_;
   const float r = std::max(clearance, 0.f);
-  m.pool.parallel(points.size(), 256, [&](size_t i0, size_t i1) {
+  parallel(points.size(), 256, [&](size_t i0, size_t i1) {
     for (size_t i = i0; i < i1; ++i) free[i] = m.pointFree(points[i], r) ? 1 : 0;
   });
 }

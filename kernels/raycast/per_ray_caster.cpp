@@ -6,11 +6,6 @@
 
 namespace polyloc {
 
-void PerRayCaster::setThreads(int threads) {
-  threads_ = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
-  arena_ = std::make_unique<tbb::task_arena>(threads_);
-}
-
 void PerRayCaster::writeHit(const HitBuffers& out, size_t i, float range, float t1,
                             uint32_t triangle, uint32_t label, const Eigen::Vector3f& n,
                             const CastOptions& opt) {

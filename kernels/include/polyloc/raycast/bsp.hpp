@@ -11,11 +11,12 @@
 //
 // What a hit fills: range (to the plane where the ray enters solid), normal (that plane's, facing
 // the ray), triangle and label (the map triangle on that plane that holds the hit point, or the
-// nearest one on it). Nothing is allocated per call; calls run on a TBB arena (setThreads).
+// nearest one on it). Nothing is allocated per call; the batch loops and the arena are
+// PerRayCaster's.
 #pragma once
 
 #include <polyloc/map/mesh.hpp>
-#include <polyloc/raycast/ray_caster.hpp>
+#include <polyloc/raycast/per_ray_caster.hpp>
 
 #include <memory>
 
@@ -44,7 +45,7 @@ struct BspStats {
   double memoryMb() const { return double(node_bytes + triangle_ref_bytes) / (1024.0 * 1024.0); }
 };
 
-class BspCaster final : public RayCaster {
+class BspCaster final : public PerRayCaster {
  public:
   // Throws MapError naming mesh.source and the problem when the map is not closed and outward.
   explicit BspCaster(const Mesh& mesh, const BspOptions& options = {});
@@ -53,20 +54,18 @@ class BspCaster final : public RayCaster {
   BspCaster& operator=(const BspCaster&) = delete;
 
   const char* name() const override { return "bsp"; }
-  void castScans(std::span<const Pose> sensor_poses, const BeamSet& beams, const HitBuffers& out,
-                 const ScanWindow& window = {}) const override;
-  void castRays(const RayBatch& rays, const HitBuffers& out) const override;
   // Point descent; with clearance r a node's both sides are visited when the point is within r
   // of its plane, so a point is free only if no solid leaf is reachable by its r-ball. Planes are
   // tested one at a time, so near convex corners the margin is conservative (up to r * sqrt(3)).
   void queryFree(std::span<const Eigen::Vector3f> points, float clearance,
                  uint8_t* free) const override;
-  void setThreads(int threads) override;
-  int threads() const override;
 
   const BspStats& stats() const;
 
  private:
+  void traceRay(const HitBuffers& out, size_t i, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t0,
+                float t1, const CastOptions& opt) const override;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

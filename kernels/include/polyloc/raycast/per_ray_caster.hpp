@@ -1,16 +1,13 @@
-// The batch plumbing of backends that trace one ray at a time (grid2d, distance3d, octomap):
-// poses x beams with the scan windows, explicit rays, the TBB arena of setThreads. A backend
-// implements traceRay (one ray, window already merged) and queryFree.
+// The batch plumbing of backends that trace one ray at a time (bsp, grid2d, distance3d, octomap):
+// poses x beams with the scan windows, explicit rays, the TBB arena of setThreads (cast_arena.hpp:
+// < 0 runs in the caller's arena). A backend implements traceRay (one ray, window already
+// merged) and queryFree.
 #pragma once
 
+#include <polyloc/raycast/cast_arena.hpp>
 #include <polyloc/raycast/ray_caster.hpp>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <Eigen/Core>
-#include <memory>
 
 namespace polyloc {
 
@@ -19,11 +16,11 @@ class PerRayCaster : public RayCaster {
   void castScans(std::span<const Pose> sensor_poses, const BeamSet& beams, const HitBuffers& out,
                  const ScanWindow& window = {}) const final;
   void castRays(const RayBatch& rays, const HitBuffers& out) const final;
-  void setThreads(int threads) final;
-  int threads() const final { return threads_; }
+  void setThreads(int threads) final { pool_.resize(threads); }
+  int threads() const final { return pool_.threads(); }
 
  protected:
-  explicit PerRayCaster(int threads) { setThreads(threads); }
+  explicit PerRayCaster(int threads) : pool_(threads) {}
 
   // One ray o + t d (unit d), t in [t0, t1] (may be empty: t0 > t1); writes entry i of out.
   virtual void traceRay(const HitBuffers& out, size_t i, const Eigen::Vector3f& o,
@@ -37,15 +34,11 @@ class PerRayCaster : public RayCaster {
   // body(begin, end) over [0, n) in chunks of at least `grain`, inside the arena.
   template <class F>
   void parallel(size_t n, size_t grain, F&& body) const {
-    arena_->execute([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
-                        [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
-    });
+    pool_.parallel(n, grain, std::forward<F>(body));
   }
 
  private:
-  std::unique_ptr<tbb::task_arena> arena_;
-  int threads_ = 0;
+  CastArena pool_;
 };
 
 }  // namespace polyloc
