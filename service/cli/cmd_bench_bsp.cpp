@@ -3,6 +3,8 @@
 // thesis's Table 6.1 measurement (100,000 random rays): the BSP and Embree rows, and the
 // Bresenham rows (grid2d sliced at the ray height, at the thesis's 5, 4 and 1 cm) on the same
 // planar rays and points.
+#include "cli/bench_ranges.hpp"
+#include "cli/bench_timing.hpp"
 #include "cli/commands.hpp"
 
 #include <polyloc/geometry/random.hpp>
@@ -15,9 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <functional>
 #include <memory>
 #include <sstream>
 
@@ -39,16 +39,6 @@ struct BenchBspArgs {
   uint64_t seed = 1;
   bool json = false;
 };
-
-double bestRate(int repeat, double n, const std::function<void()>& f) {
-  double best = 0;
-  for (int i = 0; i < repeat; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    best = std::max(best, n / std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return best;
-}
 
 // Whole solids carry one label, so keeping labels keeps the map closed.
 Mesh keepLabels(const Mesh& in, const std::string& list) {
@@ -109,21 +99,12 @@ Rays randomRays(const Mesh& mesh, const BspCaster& bsp, size_t n, double h, bool
   return r;
 }
 
-// Mean and p99 of |r - ref| where both hit, and the share within 1 mm (both misses agree).
 void compareRanges(const std::vector<float>& r, const std::vector<float>& ref, nlohmann::json& j, const std::string& key) {
-  size_t same = 0;
-  std::vector<double> err;
-  for (size_t i = 0; i < r.size(); ++i) {
-    same += (std::isinf(r[i]) && std::isinf(ref[i])) || std::abs(r[i] - ref[i]) <= 1e-3f;
-    if (std::isfinite(r[i]) && std::isfinite(ref[i])) err.push_back(std::abs(r[i] - ref[i]));
-  }
-  std::sort(err.begin(), err.end());
-  double sum = 0;
-  for (double e : err) sum += e;
-  j["range_err_mean_m_" + key] = err.empty() ? 0.0 : sum / double(err.size());
-  j["range_err_median_m_" + key] = err.empty() ? 0.0 : err[err.size() / 2];
-  j["range_err_p99_m_" + key] = err.empty() ? 0.0 : err[std::min(err.size() - 1, err.size() * 99 / 100)];
-  j["agree_1mm_" + key] = r.empty() ? 1.0 : double(same) / double(r.size());
+  const RangeStats s = rangeStats(r, ref);
+  j["range_err_mean_m_" + key] = s.mean;
+  j["range_err_median_m_" + key] = s.median;
+  j["range_err_p99_m_" + key] = s.p99;
+  j["agree_1mm_" + key] = s.agree_1mm;
   j["rays_" + key] = r.size();
 }
 
@@ -158,10 +139,8 @@ nlohmann::json gridRows(const Mesh& mesh, const EmbreeCaster& embree, const Rays
     CasterOptions o;
     o.threads = a.threads, o.resolution = res, o.height = a.height;
     std::unique_ptr<RayCaster> grid;
-    const auto t0 = std::chrono::steady_clock::now();
-    grid = makeCaster("grid2d", mesh, o);
     nlohmann::json g;
-    g["build_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    g["build_s"] = seconds([&] { grid = makeCaster("grid2d", mesh, o); });
     g["memory_mb"] = double(casterMemoryBytes(*grid)) / 1e6;
     g["rays_per_s_planar"] = bestRate(a.repeat, double(r.size()), [&] { grid->castRays(planar.batch(), {r.data()}); });
     compareRanges(r, ref, g, "planar");
@@ -183,11 +162,11 @@ void runBenchBsp(const BenchBspArgs& a) {
   bo.max_candidates = a.max_candidates;
   bo.threads = a.threads;
   const BspCaster bsp(mesh, bo);
-  const auto t0 = std::chrono::steady_clock::now();
   EmbreeOptions eo;
   eo.threads = a.threads;
-  const EmbreeCaster embree(mesh, eo);
-  const double embree_build = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::unique_ptr<EmbreeCaster> embree_owner;
+  const double embree_build = seconds([&] { embree_owner = std::make_unique<EmbreeCaster>(mesh, eo); });
+  const EmbreeCaster& embree = *embree_owner;
 
   const BspStats& s = bsp.stats();
   nlohmann::json j, jb, je;

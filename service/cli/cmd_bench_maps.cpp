@@ -2,6 +2,7 @@
 // build time, memory, rays/s for planar scans and for 3D rays, point-in-solid queries/s, range
 // error against Embree's exact intersection, and optionally MCL on a simulated scenario.
 #include "cli/bench_maps_localize.hpp"
+#include "cli/bench_ranges.hpp"
 #include "cli/bench_timing.hpp"
 #include "cli/commands.hpp"
 
@@ -77,20 +78,11 @@ struct Results {
 // |r - ref| over rays where both hit: mean, median, p99; and the fraction whose hit/miss differs.
 void rangeError(const std::vector<float>& r, const std::vector<float>& ref, nlohmann::json& j,
                 const std::string& prefix) {
-  std::vector<double> e;
-  size_t disagree = 0;
-  for (size_t i = 0; i < r.size(); ++i) {
-    const bool a = std::isfinite(r[i]), b = std::isfinite(ref[i]);
-    disagree += a != b;
-    if (a && b) e.push_back(std::abs(double(r[i]) - double(ref[i])));
-  }
-  std::sort(e.begin(), e.end());
-  double mean = 0;
-  for (double v : e) mean += v;
-  j[prefix + "mean_m"] = e.empty() ? 0.0 : mean / double(e.size());
-  j[prefix + "median_m"] = e.empty() ? 0.0 : e[e.size() / 2];  // the mean is a tail's: near misses
-  j[prefix + "p99_m"] = e.empty() ? 0.0 : e[std::min(e.size() - 1, size_t(0.99 * double(e.size())))];
-  j[prefix + "hit_disagreement"] = r.empty() ? 0.0 : double(disagree) / double(r.size());
+  const RangeStats s = rangeStats(r, ref);
+  j[prefix + "mean_m"] = s.mean;
+  j[prefix + "median_m"] = s.median;
+  j[prefix + "p99_m"] = s.p99;
+  j[prefix + "hit_disagreement"] = s.hit_disagreement;
 }
 
 nlohmann::json benchOne(const std::string& name, const Mesh& mesh, const Workload& w,
