@@ -1,5 +1,6 @@
 #include "cli/bench_maps_localize.hpp"
 
+#include <polyloc/eval/stats.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/weighing.hpp>
@@ -7,28 +8,10 @@
 #include <polyloc/sim/scenario.hpp>
 #include <polyloc/sim/simulator.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 namespace polyloc::cli {
-namespace {
-
-class DiscardWriter final : public RecordingWriter {  // the bench needs the hooks, not a file
- public:
-  void write(const std::string&, int64_t, const msg::Message&) override {}
-  void close() override {}
-};
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
-}
-
-}  // namespace
-
 nlohmann::json benchLocalize(const std::string& backend, const CasterOptions& options,
                              const BenchLocalizeArgs& a) {
   using Clock = std::chrono::steady_clock;
@@ -86,7 +69,7 @@ nlohmann::json benchLocalize(const std::string& backend, const CasterOptions& op
     terr.push_back(std::hypot(e.pose.x() - f.map_T_base.x(), e.pose.y() - f.map_T_base.y()));
     yerr.push_back(std::abs(rad2deg(angleDiff(e.pose.yaw(), f.map_T_base.yaw()))));
   };
-  DiscardWriter out;
+  NullRecordingWriter out;  // the bench needs the hooks, not a file
   const SimSummary s = sim.run(out, hooks);
   double tm = 0, ym = 0;
   for (double v : terr) tm += v;
@@ -101,7 +84,7 @@ nlohmann::json benchLocalize(const std::string& backend, const CasterOptions& op
           {"localizer_s", loc_s},
           {"updates_per_s", loc_s > 0 ? double(updates) / loc_s : 0.0},
           {"trans_err_mean_m", tm / n},
-          {"trans_err_p95_m", percentile(terr, 0.95)},
+          {"trans_err_p95_m", percentile(terr, 95)},
           {"yaw_err_mean_deg", ym / n},
           {"final_status", toString(loc.estimate().status)}};
 }
