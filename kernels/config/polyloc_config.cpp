@@ -4,6 +4,7 @@
 #include <polyloc/vrs/config_yaml.hpp>
 #include <polyloc/tracking/config_yaml.hpp>
 
+#include <algorithm>
 #include <filesystem>
 
 namespace polyloc {
@@ -32,17 +33,26 @@ MapConfig readMapConfig(const ConfigValue& v, const ConfigMap& context) {
   return mc;
 }
 
-PolylocConfig loadConfig(const std::string& path) {
+PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load) {
   ConfigMap m = ConfigMap::load(path);
   PolylocConfig c;
   c.file = path;
-  c.map = readMapConfig(m.value("map"), m);
+  if (m.has("map") || !load.map_optional) c.map = readMapConfig(m.value("map"), m);
   c.robot = parseRobot(m.map("robot"));
-  c.rig = readRig(m.value("rig"), m);
-  if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"), &c.rig);
+  const bool recorded = !m.has("rig") || (m.value("rig").isScalar() && m.value("rig").asString() == "recorded");
+  if (recorded && !load.recorded_rig) {
+    if (!m.has("rig")) m.value("rig");  // the usual "missing key" error
+    m.value("rig").fail("a recorded rig takes its scanners from a recording (polyloc localize, relocalize, "
+                        "eval carmen); this command needs the rig's sensors: a preset, a rig file or a mapping");
+  }
+  if (recorded) c.rig_from_recording = true;
+  else c.rig = readRig(m.value("rig"), m);
+  const Rig* rig = recorded ? nullptr : &c.rig;  // sensor names are checked when the rig is known
+  if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"), rig);
+  c.mcl.clearance = std::max(0.0, c.robot.inscribedRadius() - c.mcl.clearance_margin);
   c.vrs.robot_height = c.robot.height;
   if (m.has("vrs")) c.vrs = parseVrsConfig(m.map("vrs"), c.robot.height);
-  if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), &c.rig);
+  if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), rig);
   if (m.has("depth_filter")) c.depth_filter = parseDepthFilterConfig(m.map("depth_filter"));
   m.allow("polylocd");  // the daemon's own section (service/pipeline/daemon_config.hpp)
   m.finish();

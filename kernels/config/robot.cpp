@@ -28,6 +28,20 @@ double RobotSpec::boundingRadius() const {
   return r;
 }
 
+double RobotSpec::inscribedRadius() const {
+  if (footprint.empty()) return radius;
+  double r = INFINITY;
+  bool inside = false;  // crossing number of a ray from the origin along +x
+  for (size_t i = 0; i < footprint.size(); ++i) {
+    const Eigen::Vector2d a = footprint[i], b = footprint[(i + 1) % footprint.size()];
+    const Eigen::Vector2d ab = b - a;
+    const double t = std::clamp(-a.dot(ab) / std::max(ab.squaredNorm(), 1e-18), 0.0, 1.0);
+    r = std::min(r, (a + t * ab).norm());
+    if ((a.y() > 0) != (b.y() > 0) && a.x() + (0 - a.y()) * ab.x() / ab.y() > 0) inside = !inside;
+  }
+  return inside ? r : 0.0;
+}
+
 std::vector<Eigen::Vector2d> RobotSpec::outline(double spacing) const {
   std::vector<Eigen::Vector2d> out;
   if (footprint.empty()) {

@@ -116,10 +116,27 @@ struct LaserParams {
   double max_range = 80.0;
 };
 
+// Where odometry comes from: ODOM lines; without any, the odometry fields of the scans
+// (FLASER, else RLASER, else ROBOTLASER1's robot pose), which raw logs carry with every scan.
+enum class OdometrySource { Odom, Flaser, Rlaser, RobotLaser, None };
+
+OdometrySource findOdometrySource(const std::string& path) {
+  LineReader lines(path);
+  std::string line;
+  bool too_long = false, flaser = false, rlaser = false, robot = false;
+  while (lines.getline(line, too_long)) {
+    if (line.starts_with("ODOM ")) return OdometrySource::Odom;
+    flaser = flaser || line.starts_with("FLASER ");
+    rlaser = rlaser || line.starts_with("RLASER ");
+    robot = robot || line.starts_with("ROBOTLASER1 ");
+  }
+  return flaser ? OdometrySource::Flaser : rlaser ? OdometrySource::Rlaser : robot ? OdometrySource::RobotLaser : OdometrySource::None;
+}
+
 // One pass over a log: lines in, RecordedMessages out.
 class CarmenSource {
  public:
-  explicit CarmenSource(const std::string& path) : path_(path), lines_(path) {}
+  CarmenSource(const std::string& path, OdometrySource odometry) : path_(path), lines_(path), odometry_(odometry) {}
 
   bool next(RecordedMessage& out, ReadStats& stats) {
     while (pending_.empty()) {
@@ -165,7 +182,7 @@ class CarmenSource {
     if (type == "RLASER") return oldLaser(stats, "/rear_laser", "rear_laser", rear_);
     if (type == "ROBOTLASER1") return robotLaser(stats);
     if (type == "ODOM") return odom(stats);
-    if (type == "PARAM") return param();
+    if (type == "PARAM") return param(stats);
     if (type == "SYNC" || type.starts_with("NMEA")) return;
     bool word = type.size() <= 32;  // a message name, or a garbled line?
     for (char c : type) word = word && ((c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_');
@@ -174,11 +191,18 @@ class CarmenSource {
       stats.warn(where() + std::string(type) + ": message type not supported, skipped (warned once)");
   }
 
-  void param() {
+  void param(ReadStats& stats) {
     if (t_.size() < 3) return;
     double v = 0;
     if (!parseFinite(t_[2], v)) return;
     const std::string_view name = t_[1];
+    // The field of view is in degrees; some logs (MIT's csail) write radians (3.14159). No laser
+    // scanner has a field of view of a few degrees.
+    if (name.ends_with("_laser_fov") && v > 0 && v <= 2 * M_PI + 1e-3) {
+      stats.note(where() + std::string(name) + " " + std::string(t_[2]) + ": taken as radians (" +
+                 std::to_string(int(std::lround(rad2deg(v)))) + " deg)");
+      v = rad2deg(v);
+    }
     if (name == "laser_front_laser_fov") front_.fov_deg = v;
     if (name == "laser_front_laser_resolution") front_.resolution_deg = v;
     if (name == "robot_front_laser_max") front_.max_range = v;
@@ -271,6 +295,10 @@ class CarmenSource {
     scan.angle_increment = static_cast<float>(inc);
     scan.angle_max = static_cast<float>(-fov / 2 + inc * (*n > 0 ? double(*n - 1) : 0.0));
     scan.range_max = static_cast<float>(p.max_range);
+    // The scan's odometry first: a consumer then has it when the scan comes.
+    if ((odometry_ == OdometrySource::Flaser && topic == "/front_laser") ||
+        (odometry_ == OdometrySource::Rlaser && topic == "/rear_laser"))
+      emitOdometry(*ns, poses[3], poses[4], poses[5], 0, 0, stats);
     emit(topic, *ns, std::move(scan));
     emitPose(topic, *ns, poses[0], poses[1], poses[2]);
   }
@@ -329,8 +357,29 @@ class CarmenSource {
       tf.transform.rotation = yawQuaternion(mount[2]);
       emit("/tf", *ns, msg::TFMessage{{tf}});
     }
+    if (odometry_ == OdometrySource::RobotLaser) emitOdometry(*ns, tail[3], tail[4], tail[5], tail[6], tail[7], stats);
     emit("/robot_laser", *ns, std::move(scan));
     emitPose("/robot_laser", *ns, tail[0], tail[1], tail[2]);
+  }
+
+  // /odom from a scan's odometry fields (a log without ODOM lines).
+  void emitOdometry(int64_t ns, double x, double y, double yaw, double tv, double rv, ReadStats& stats) {
+    if (!noted_odometry_) {
+      noted_odometry_ = true;
+      stats.note(path_ + ": no ODOM lines: /odom is the odometry pose of each " +
+                 std::string(t_[0]) + " line");
+    }
+    emitOdometryMessage(ns, x, y, yaw, tv, rv);
+  }
+  void emitOdometryMessage(int64_t ns, double x, double y, double yaw, double tv, double rv) {
+    msg::Odometry o;
+    o.header = {msg::fromNs(ns), "odom"};
+    o.child_frame_id = "base_link";
+    o.pose.pose.position = {x, y, 0};
+    o.pose.pose.orientation = yawQuaternion(yaw);
+    o.twist.twist.linear.x = tv;
+    o.twist.twist.angular.z = rv;
+    emit("/odom", ns, std::move(o));
   }
 
   // ODOM x y theta tv rv accel ipc_ts host logger_ts
@@ -343,18 +392,13 @@ class CarmenSource {
     if (!numbers(stats, 1, 6, f)) return;
     const auto ns = stamp(stats, 7);
     if (!ns) return;
-    msg::Odometry o;
-    o.header = {msg::fromNs(*ns), "odom"};
-    o.child_frame_id = "base_link";
-    o.pose.pose.position = {f[0], f[1], 0};
-    o.pose.pose.orientation = yawQuaternion(f[2]);
-    o.twist.twist.linear.x = f[3];
-    o.twist.twist.angular.z = f[4];
-    emit("/odom", *ns, std::move(o));
+    emitOdometryMessage(*ns, f[0], f[1], f[2], f[3], f[4]);
   }
 
   std::string path_;
   LineReader lines_;
+  OdometrySource odometry_;
+  bool noted_odometry_ = false;
   std::string line_;
   std::vector<std::string_view> t_;
   uint64_t line_no_ = 0;
@@ -367,11 +411,12 @@ class CarmenSource {
 
 class CarmenReader final : public RecordingReader {
  public:
-  explicit CarmenReader(const std::string& path) : path_(path), source_(path) {}
+  explicit CarmenReader(const std::string& path)
+      : path_(path), odometry_(findOdometrySource(path)), source_(path, odometry_) {}
 
   std::vector<TopicInfo> topics() override {
     if (topics_) return *topics_;
-    CarmenSource pass(path_);  // own file handle: next() on source_ is not disturbed
+    CarmenSource pass(path_, odometry_);  // own file handle: next() on source_ is not disturbed
     ReadStats ignored;
     RecordedMessage m;
     std::vector<TopicInfo> out;
@@ -393,6 +438,7 @@ class CarmenReader final : public RecordingReader {
 
  private:
   std::string path_;
+  OdometrySource odometry_;
   CarmenSource source_;
   ReadStats stats_;
   std::optional<std::vector<TopicInfo>> topics_;

@@ -80,6 +80,7 @@ size_t BeamSensorModel::weighSelected(const ParticleSet& ps, const SensorFrame& 
   if (B == 0 || P == 0) return 0;
   BeamModel m = cfg.beam;
   if (frame.coarse) m.sigma_hit = m.coarse_sigma_hit, m.log_scale = m.coarse_log_scale;
+  else m.log_scale *= countTempering(cfg.effective_beams, B);
   last_log_scale_ = m.log_scale;
   // Per beam: sigma grows with range where the sensor's noise does (ToF: about 1% of range).
   hit_scale_.resize(B), half_inv_var_.resize(B);

@@ -3,12 +3,13 @@
 #include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/factory.hpp>
 
+#include <cmath>
 #include <limits>
 
 namespace polyloc {
 
-MclConfig parseMclConfig(ConfigMap m, const Rig* rig) {
-  MclConfig c;
+MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults) {
+  MclConfig c = defaults;
   constexpr double kBig = 1e9;
   auto count = [&](const char* key, size_t def) {
     const int64_t v = m.getInt(key, int64_t(def));
@@ -57,20 +58,26 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig) {
     const int64_t n = m.getInt("global_coarse_rounds", int64_t(c.global_coarse_rounds));
     if (n < 0 || n > 1'000'000) m.value("global_coarse_rounds").fail("must be between 0 and 1000000");
     c.global_coarse_rounds = size_t(n);
+    c.global_max_coarse_rounds = m.getCount("global_max_coarse_rounds", std::max(c.global_max_coarse_rounds, c.global_coarse_rounds), c.global_coarse_rounds, 1'000'000);
   }
   {
     const int64_t n = m.getInt("relocalize_rounds", int64_t(c.relocalize_rounds));
     if (n < 0 || n > 1'000'000) m.value("relocalize_rounds").fail("must be between 0 (off) and 1000000");
     c.relocalize_rounds = size_t(n);
   }
-  c.relocalize_threshold = m.getDouble("relocalize_threshold", c.relocalize_threshold, 0, 1);
+  if (m.has("relocalize_threshold"))
+    m.value("relocalize_threshold").fail("removed: sensor resetting follows the fit check (mcl.fit), not the likelihood level");
   c.relocalize_jump = m.getDouble("relocalize_jump", c.relocalize_jump, 0, 1e6);
   c.beams_per_scan = count("beams_per_scan", c.beams_per_scan);
+  c.effective_beams = m.getDouble("effective_beams", c.effective_beams, 0, 1e6);
   c.subsample = m.getChoice("subsample", c.subsample, {"uniform"});
   c.update_min_distance = m.getDouble("update_min_distance", c.update_min_distance, 0, kBig);
   c.update_min_angle = m.getAngle("update_min_angle", c.update_min_angle);
   c.round_timeout = m.getDouble("round_timeout", c.round_timeout, 0, 1e3);
-  c.robot_radius = m.getDouble("robot_radius", c.robot_radius, 0, 100);
+  if (m.has("robot_radius"))
+    m.value("robot_radius").fail("removed: a particle's clearance is the robot's (robot.radius or robot.footprint) "
+                                 "less mcl.clearance_margin");
+  c.clearance_margin = m.getDouble("clearance_margin", c.clearance_margin, 0, 100);
   c.body_height = m.getDouble("body_height", c.body_height, 0, 100);
   c.blocked_max_mass = m.getDouble("blocked_max_mass", c.blocked_max_mass, 0, 1);
   c.uncertain_xy = m.getDouble("uncertain_xy", c.uncertain_xy, 0, kBig);
@@ -88,6 +95,8 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig) {
     mn.z_per_m = n.getDouble("z_per_m", mn.z_per_m, 0, 100);
     mn.roll_pitch_per_m = n.getAngle("roll_pitch_per_m", mn.roll_pitch_per_m);
     mn.omni = n.getChoice("drive", mn.omni ? "omni" : "differential", {"differential", "omni"}) == "omni";
+    mn.outlier_ratio = n.getDouble("outlier_ratio", mn.outlier_ratio, 0, 1);
+    mn.outlier_scale = n.getDouble("outlier_scale", mn.outlier_scale, 1, 1000);
     n.finish();
   }
   if (m.has("depth")) {
@@ -116,10 +125,25 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig) {
     rc.max_correction_yaw = r.getAngle("max_correction_yaw", rc.max_correction_yaw);
     rc.min_inlier_ratio = r.getDouble("min_inlier_ratio", rc.min_inlier_ratio, 0, 1);
     rc.cast_margin = r.getDouble("cast_margin", rc.cast_margin, 0, 100);
+    rc.search_xy = r.getDouble("search_xy", rc.search_xy, 0, 10);
+    rc.search_yaw = r.getAngle("search_yaw", rc.search_yaw);
+    if (rc.search_yaw < 0 || rc.search_yaw > M_PI) r.value("search_yaw").fail("must be between 0 and 180 deg");
+    rc.search_beams = r.getCount("search_beams", rc.search_beams, 0, 100'000);
+    rc.search_step_xy = r.getDouble("search_step_xy", rc.search_step_xy, 1e-3, 10);
+    rc.search_step_yaw = r.getAngle("search_step_yaw", rc.search_step_yaw);
+    if (!(rc.search_step_yaw > 0)) r.value("search_step_yaw").fail("must be positive");
     rc.dof = int(r.getInt("dof", rc.dof));
     rc.depth_cameras = r.getBool("depth_cameras", rc.depth_cameras);
     if (rc.dof != 0 && rc.dof != 3 && rc.dof != 6) r.value("dof").fail("must be 0 (the filter's), 3 or 6");
     r.finish();
+  }
+  if (m.has("fit")) {
+    ConfigMap f = m.map("fit");
+    FitCheck& fc = c.fit;
+    fc.tolerance = f.getDouble("tolerance", fc.tolerance, 1e-3, 100);
+    fc.max_seen_through = f.getDouble("max_seen_through", fc.max_seen_through, 0, 1);
+    fc.beams_per_scan = f.getCount("beams_per_scan", fc.beams_per_scan, 0, 100'000);
+    f.finish();
   }
   if (m.has("hypotheses")) {
     ConfigMap h = m.map("hypotheses");

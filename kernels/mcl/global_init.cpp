@@ -56,7 +56,7 @@ BlockedResult FreeFloor::zeroBlocked(ParticleSet& s, double max_mass) const {
   std::vector<Eigen::Vector3f> pts(n);
   for (size_t i = 0; i < n; ++i) pts[i] = (s.pose(i) * Eigen::Vector3d(0, 0, config_.body_height)).cast<float>();
   std::vector<uint8_t> free(n);
-  caster_.queryFree(pts, float(config_.robot_radius), free.data());
+  caster_.queryFree(pts, float(config_.clearance), free.data());
   // Weight share of the blocked particles (log weights are unnormalised here).
   double top = -std::numeric_limits<double>::infinity();
   for (double w : s.logw)
@@ -128,7 +128,7 @@ std::vector<Pose> FreeFloor::sampleFree(size_t n, const CounterRng& rng, uint64_
                       : Eigen::Vector3f(lo.x() - 1e3f, lo.y() - 1e3f, lo.z() - 1e3f);  // far outside: skipped below
       if (!floor) r[c] = -1.f;
     }
-    caster_.queryFree(body, float(config_.robot_radius), free.data());
+    caster_.queryFree(body, float(config_.clearance), free.data());
     // Inside the building: a floor slab or a ground plane reaching beyond the outer walls is
     // floor too, but a robot standing there would see no wall in some direction.
     std::vector<size_t> cand;

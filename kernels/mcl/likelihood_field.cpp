@@ -70,7 +70,8 @@ size_t LikelihoodFieldModel::weigh(const ParticleSet& ps, const SensorFrame& fra
     ex_[i] = all.dx[b] * ranges[b], ey_[i] = all.dy[b] * ranges[b], ez_[i] = all.dz[b] * ranges[b];
   }
   const std::vector<double>& table = tables_[frame.sensor];
-  const double log_scale = cfg.likelihood_field.log_scale;
+  const double log_scale = cfg.likelihood_field.log_scale * (frame.coarse ? 1.0 : countTempering(cfg.effective_beams, B));
+  last_log_scale_ = log_scale;
   // Per particle, a sequential sum over its beams: the same for any split over threads.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t p = r.begin(); p < r.end(); ++p) {

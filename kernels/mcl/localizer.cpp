@@ -4,6 +4,7 @@
 #include <polyloc/mcl/beam_model.hpp>
 #include <polyloc/mcl/sensor_model.hpp>
 #include <polyloc/mcl/estimate.hpp>
+#include <polyloc/mcl/fit_check.hpp>
 #include <polyloc/mcl/global_init.hpp>
 #include <polyloc/mcl/hypotheses.hpp>
 #include <polyloc/mcl/localizer.hpp>
@@ -56,7 +57,7 @@ Pose ParticleSet::pose(size_t i) const {
 
 struct Localizer::Impl {
   Impl(const RayCaster& exact, const Mesh& m, const Rig& r, const MclConfig& cfg, const RayCaster* weigh)
-      : caster(weigh ? *weigh : exact), rig(r), config(cfg), floor(exact, m, config), rng(cfg.seed) {
+      : caster(weigh ? *weigh : exact), exact(exact), rig(r), config(cfg), floor(exact, m, config), rng(cfg.seed) {
     const RayCaster& c = caster;
     for (const auto& s : rig.sensors) beams.push_back(s.beams());
     const std::vector<uint8_t> weighed = weighedSensors(rig, config);
@@ -92,8 +93,8 @@ struct Localizer::Impl {
     updated_once = false;
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
-    round_low = 0;
-    low_rounds = rounds_since_reset = 0;
+    rounds_since_reset = 0;
+    seen_through.clear();
     coarse_left = 0;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
@@ -124,7 +125,7 @@ struct Localizer::Impl {
     ++counters.resamples;
     // Augmented MCL: inject uniform free-space particles when the short-term likelihood falls
     // below the long-term one (kidnapping, divergence).
-    const double p_inject = injectProbability();
+    const double p_inject = est.contradicted ? injectProbability() : 0.0;
     if (p_inject > 0) {
       std::vector<size_t> slots;
       for (size_t j = 0; j < ps.size(); ++j)
@@ -213,15 +214,15 @@ struct Localizer::Impl {
     // No particle explains the scan better than the non-hit parts of the mixture.
     round_lost += best < model.unexplainedLogLikelihood(sensor);
     ++round_sensors;
-    if ((config.refine.enabled || config.hypotheses.count > 0) &&
-        (config.refine.depth_cameras || !std::holds_alternative<DepthCameraSpec>(rig.sensors[sensor].spec))) {
+    // Kept for the refinement, the global hypotheses and the fit check; raw ToF frames only when
+    // asked (flying pixels and multipath bias a fit).
+    if (config.refine.depth_cameras || !std::holds_alternative<DepthCameraSpec>(rig.sensors[sensor].spec)) {
       RoundFrame& f = round_frames[sensor];
       f.ranges.assign(ranges.begin(), ranges.end());
       f.odom = scan_odom;
       f.valid = true;
     }
     inject_due = std::max(inject_due, injectProbability());
-    round_low += injectProbability() >= config.relocalize_threshold;
     ++counters.updates;
     est.updates = counters.updates;
     round_stamp = stamp;
@@ -237,8 +238,10 @@ struct Localizer::Impl {
     est.stamp_ns = round_stamp;  // the particles are at the odometry of the last frame weighed
     const bool global_round = coarse_left > 0;  // one of the rounds right after a uniform prior
     if (coarse_left > 0) --coarse_left;
+    if (global_round) ++global_rounds;
     // Only right after a uniform prior: planting refined modes while tracking through a crowd
     // (uncertain, weighed coarse) moves a good cloud onto fits that people distort.
+    ambiguous = false;
     const bool planted = global_round && config.hypotheses.count > 0 && plantRefinedModes();
     est.ess = effectiveSampleSize(ps.logw);
     // Lost when most sensors of the round are explained by no particle (one sensor alone may be
@@ -250,34 +253,45 @@ struct Localizer::Impl {
     // over by injected particles.
     const Pose predicted = before.pose * (odom_at_round.inverse() * odom_at_predict);
     odom_at_round = odom_at_predict;
-    const bool jumped = config.relocalize_jump > 0 && before.status == MclStatus::Tracking && !global_round &&
-                        (est.pose.translation() - predicted.translation()).head<2>().norm() > config.relocalize_jump;
+    bool jumped = config.relocalize_jump > 0 && before.status == MclStatus::Tracking && !global_round &&
+                  (est.pose.translation() - predicted.translation()).head<2>().norm() > config.relocalize_jump;
     if (config.refine.enabled) refineEstimate();
-    // Sensor resetting: for relocalize_rounds rounds the short-term likelihood has stayed far
-    // below the long-term one, or the filter has been lost (kidnapped, tracking a wrong place).
-    // Injection alone draws too few particles near the truth in a building-sized map; a fresh
-    // uniform prior does not. A third of the round's sensors (at least two, or the only one)
-    // must have dropped: one blinded by a person drops on its own while the track is fine, and
-    // scanners tilted onto flat floor fit anywhere, so they never drop. Uncertain does not count:
-    // people around the robot make it uncertain for a while.
-    const size_t needed = std::max<size_t>(std::min<size_t>(2, round_sensors), (round_sensors + 2) / 3);
-    // Lost by the fit only: all particles blocked (a robot closer to a wall than robot_radius)
-    // collapses the weights too, but says nothing about where the robot is.
-    // Nor is a round whose estimate the scans pin against the mesh (refine accepted): over a
-    // long run w_slow creeps up where the fit is best, and a person in a corridor then reads as a
-    // kidnapping for rounds on end although the pose is right (soak, docs/benchmarks.md).
-    const bool low = (round_low >= needed || 2 * round_lost > round_sensors) && !est.refined;
-    low_rounds = low ? low_rounds + 1 : 0;
+    checkEstimateFit();
+    jumped = jumped && est.contradicted;  // a jump to a place the scans fit is the filter doing its job
+    // The global phase ends on a confirmed estimate only: refined against the mesh, not
+    // contradicted by the fit check, and the only place the refined modes found. Committing after
+    // a fixed number of rounds handed buildings of similar rooms, and corridors seen both ways,
+    // to the first place that fitted a little better (real logs).
+    if (global_round && coarse_left == 0 && (est.contradicted || !est.refined || ambiguous) &&
+        global_rounds < config.global_max_coarse_rounds)
+      coarse_left = 1;
+    // Sensor resetting: for relocalize_rounds rounds in a row the scans have contradicted the
+    // estimate (beams seen through the map's walls: fit_check.hpp), the filter tracks a wrong
+    // place (kidnapped, or diverged). Injection alone draws too few particles near the truth in
+    // a building-sized map; a fresh uniform prior does not. The likelihood level alone does not
+    // decide: it drops with map error, people and clutter while the track is fine (real logs,
+    // docs/benchmarks.md), and a round whose estimate the scans pin against the mesh (refine
+    // accepted) is not lost either.
+    // Averaged over the last relocalize_rounds rounds: one round sees through now and then at the
+    // right place (a door open that the map has shut, a person who stood in the map's scans), and
+    // a wrong place shows it round after round.
+    seen_through.push_back(est.seen_through);
+    while (seen_through.size() > std::max<size_t>(config.relocalize_rounds, 1)) seen_through.pop_front();
+    double mean_seen = 0;
+    for (double v : seen_through) mean_seen += v;
+    mean_seen /= double(seen_through.size());
+    const bool low = seen_through.size() >= config.relocalize_rounds && mean_seen > config.fit.max_seen_through;
     ++rounds_since_reset;
-    if (jumped || (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
-                   rounds_since_reset > 2 * config.relocalize_rounds)) {
+    if (jumped || (config.relocalize_rounds > 0 && low && rounds_since_reset > 2 * config.relocalize_rounds)) {
       drawUniform(kRelocStream + step);
       coarse_left = config.global_coarse_rounds;
+      global_rounds = 0;
       w_fast = w_slow;  // no injection into the fresh prior until tracking weighs again
       ++counters.relocalizations;
-      low_rounds = rounds_since_reset = 0;
+      rounds_since_reset = 0;
+      seen_through.clear();
       refreshEstimate(MclStatus::Lost);
-    } else if (planted || est.ess < config.resample_ess * double(ps.size()) || inject_due > 0.05) {
+    } else if (planted || est.ess < config.resample_ess * double(ps.size()) || (est.contradicted && inject_due > 0.05)) {
       resample();
     }
     // Global localisation: fresh uniform particles each coarse round, so that places the prior
@@ -288,7 +302,6 @@ struct Localizer::Impl {
     est.particles = ps.size();
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
-    round_low = 0;
     for (RoundFrame& f : round_frames) f.valid = false;  // the data stays until the next round overwrites it
   }
 
@@ -307,7 +320,24 @@ struct Localizer::Impl {
   bool plantRefinedModes() {
     const std::vector<RefineScan> scans = roundScans();
     if (scans.empty()) return false;
-    const std::vector<Hypothesis> hyps = refineModes(caster, rig, scans, ps, config.hypotheses, config.refine);
+    std::vector<Hypothesis> hyps = refineModes(caster, rig, scans, ps, config.hypotheses, config.refine);
+    // A refined mode whose beams see through the map's walls is a wrong place, however many
+    // of its beams found a wall.
+    std::erase_if(hyps, [&](const Hypothesis& h) {
+      return checkFit(exact, rig, scans, h.pose, config.fit.tolerance, config.fit.beams_per_scan).seenThrough() >
+             config.fit.max_seen_through;
+    });
+    // More than one distinct place fits alike (a corridor seen both ways, twin rooms): the robot
+    // must move on before the filter commits.
+    size_t places = 0;
+    for (size_t i = 0; i < hyps.size(); ++i) {
+      bool distinct = true;
+      for (size_t k = 0; k < i && distinct; ++k)
+        distinct = (hyps[i].pose.translation() - hyps[k].pose.translation()).head<2>().norm() > 1.0 ||
+                   std::abs(angleDiff(hyps[i].pose.yaw(), hyps[k].pose.yaw())) > 0.5;
+      places += distinct;
+    }
+    ambiguous = places > 1;
     const size_t n = plantHypotheses(ps, hyps, config.hypotheses, rng, kPlantStream + step);
     if (n == 0) return false;
     counters.hypotheses += hyps.size();
@@ -315,6 +345,19 @@ struct Localizer::Impl {
     normalizeLogWeights(ps.logw);
     est.ess = effectiveSampleSize(ps.logw);
     return true;
+  }
+
+  // The round's frames cast from the estimate in the exact map (fit_check.hpp): do they see
+  // through its walls? A contradicted estimate is uncertain at best.
+  void checkEstimateFit() {
+    const std::vector<RefineScan> scans = roundScans();
+    const ScanFit fit = scans.empty() ? ScanFit{}
+                                      : checkFit(exact, rig, scans, est.pose, config.fit.tolerance, config.fit.beams_per_scan);
+    est.seen_through = fit.seenThrough();
+    est.contradicted = fit.beams > 0 && est.seen_through > config.fit.max_seen_through;
+    if (!est.contradicted) return;
+    ++counters.contradicted;
+    if (est.status == MclStatus::Tracking) est.status = MclStatus::Uncertain;
   }
 
   // The estimate refined against the mesh with the round's frames (refine.hpp), while tracking:
@@ -343,7 +386,8 @@ struct Localizer::Impl {
   };
   std::vector<RoundFrame> round_frames;  // per rig sensor: its frame of the open round (refine)
 
-  const RayCaster& caster;
+  const RayCaster& caster;  // the sensor models' and the refinement's (mcl.caster)
+  const RayCaster& exact;   // the mesh itself (Embree): floor, free space, the fit check
   Rig rig;
   MclConfig config;
   FreeFloor floor;
@@ -389,10 +433,12 @@ struct Localizer::Impl {
   // The open round: sensors weighed, of them lost, collapsed weightings, largest injection due.
   size_t round_sensors = 0, round_lost = 0, round_collapsed = 0;
   double inject_due = 0;
-  size_t round_low = 0;  // sensors of the round whose injection probability reached relocalize_threshold
   int64_t round_start = 0, round_stamp = 0;
-  size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
+  size_t rounds_since_reset = 0;      // sensor resetting (relocalize_rounds)
+  std::deque<double> seen_through;    // of the last relocalize_rounds rounds (mcl.fit)
   size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior
+  size_t global_rounds = 0;  // coarse rounds since the last uniform prior
+  bool ambiguous = false;    // the round's refined modes (global localisation) found several places
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config,
@@ -431,6 +477,7 @@ void Localizer::initGlobal(int64_t stamp) {
     d.drawUniform(kInitStream + uint64_t(stamp));
     d.reset(stamp);
     d.coarse_left = d.config.global_coarse_rounds;
+    d.global_rounds = 0;
   });
 }
 

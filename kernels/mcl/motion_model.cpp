@@ -14,7 +14,8 @@ constexpr uint64_t kMotionStream = 0x4D4F54ULL << 40;
 Pose sampleMotion(const Pose& particle, const Pose& delta, const MotionNoise& n, int dof,
                   const CounterRng& rng, uint64_t step, uint64_t index) {
   const uint64_t stream = kMotionStream + step;
-  auto gauss = [&](uint64_t k, double sigma) { return sigma > 0 ? sigma * rng.normal(stream, index, k) : 0.0; };
+  const double scale = rng.uniform(stream, index, 6) < n.outlier_ratio ? n.outlier_scale : 1.0;  // heavy tails
+  auto gauss = [&](uint64_t k, double sigma) { return sigma > 0 ? scale * sigma * rng.normal(stream, index, k) : 0.0; };
   const double dx = delta.x(), dy = delta.y(), dyaw = delta.yaw();
   const double trans = std::hypot(dx, dy);
   double nx, ny, nyaw;

@@ -1,4 +1,5 @@
 #include <polyloc/mcl/beam_model.hpp>
+#include <polyloc/mcl/pose_search.hpp>
 #include <polyloc/mcl/refine.hpp>
 
 #include <Eigen/Cholesky>
@@ -102,12 +103,25 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
   const int n_par = dof;
   auto param = [&](int i) { return dof == 6 ? i : planar_idx[size_t(i)]; };
 
+  // Start from the best cell of a small exhaustive search (pose_search.hpp), if asked.
   Pose T = map_T_base;
+  if (cfg.search_xy > 0 || cfg.search_yaw > 0)
+    T = searchPose(caster, rig, scans, map_T_base, PoseSearch{cfg.search_xy, cfg.search_yaw, cfg.search_step_xy, cfg.search_step_yaw, 0.1, cfg.search_beams, 0.05}).pose;
   Eigen::MatrixXd H(n_par, n_par);
   double last_step = std::numeric_limits<double>::infinity();
   bool converged = false;
   double sum_we2 = 0;
   size_t inliers = 0;
+  // The iterate of least robust cost: on maps whose walls are steps of grid cells the normals of
+  // the correspondences flip between iterations and Gauss-Newton circles the optimum by
+  // millimetres instead of settling; then that iterate, not the last, is the answer.
+  struct Iterate {
+    Pose T;
+    double cost = std::numeric_limits<double>::infinity(), sum_we2 = 0, rms = 0;
+    size_t inliers = 0;
+    Eigen::MatrixXd H;
+  } best;
+  const double cap = cfg.huber * (cfg.max_correspondence - 0.5 * cfg.huber);  // Huber cost at the gate
   for (int it = 0; it < cfg.iterations; ++it) {
     // Cast every selected beam from the sensor poses at T.
     std::vector<Pose> map_T_sensor(scans.size());
@@ -123,14 +137,21 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
     // Normal equations over the inliers; J = [n, (p - t) x n] for the perturbation above.
     Mat6 JtWJ = Mat6::Zero();
     Vec6 JtWe = Vec6::Zero();
-    double sum_e2 = 0;
+    double sum_e2 = 0, cost = 0;
     sum_we2 = 0;
     inliers = 0;
     for (size_t i = 0; i < N; ++i) {
-      if (!std::isfinite(range[i])) continue;
+      if (!std::isfinite(range[i])) {
+        cost += cap;
+        continue;
+      }
       const Eigen::Vector3d n(nx[i], ny[i], nz[i]), d(dx[i], dy[i], dz[i]);
       const double e = (double(bm.measured[i]) - double(range[i])) * n.dot(d);
-      if (!(std::abs(e) <= cfg.max_correspondence)) continue;
+      if (!(std::abs(e) <= cfg.max_correspondence)) {
+        cost += cap;
+        continue;
+      }
+      cost += std::abs(e) <= cfg.huber ? 0.5 * e * e : cfg.huber * (std::abs(e) - 0.5 * cfg.huber);
       const Eigen::Vector3d p = Eigen::Vector3d(ox[i], oy[i], oz[i]) + double(bm.measured[i]) * d;
       Vec6 J;
       J.head<3>() = n;
@@ -157,6 +178,7 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
       g[a] = JtWe[param(a)];
       for (int b = 0; b < n_par; ++b) H(a, b) = JtWJ(param(a), param(b));
     }
+    if (cost < best.cost) best = Iterate{T, cost, sum_we2, res.rms, inliers, H};
     const double mu = 1e-9 * H.diagonal().maxCoeff() + 1e-12;
     const Eigen::VectorXd h = -(H + mu * Eigen::MatrixXd::Identity(n_par, n_par)).ldlt().solve(g);
     if (!h.allFinite()) {
@@ -180,8 +202,9 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
     }
   }
   if (!converged && !(last_step < cfg.max_final_step)) {
-    res.reason = "not converged";
-    return res;
+    // Circling: the least-cost iterate, checked by the same gates as a converged one.
+    T = best.T, sum_we2 = best.sum_we2, inliers = best.inliers, H = best.H;
+    res.rms = best.rms, res.correspondences = best.inliers;
   }
   if (double(inliers) < cfg.min_inlier_ratio * double(N)) {
     res.reason = "too few inliers (" + std::to_string(inliers) + " of " + std::to_string(N) + ")";

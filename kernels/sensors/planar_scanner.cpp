@@ -11,6 +11,7 @@ size_t PlanarScannerSpec::numBeams() const {
 }
 
 double PlanarScannerSpec::angleMin() const {
+  if (std::isfinite(angle_min_rad)) return angle_min_rad;
   return -0.5 * static_cast<double>(numBeams() - 1) * resolution_rad;
 }
 

@@ -25,7 +25,7 @@ const char* Sensor::typeName() const {
 }
 
 std::vector<std::string> sensorPresetNames() {
-  return {"sick_s300", "hokuyo_urg04lx", "sick_lms200", "vlp16", "pmd_o3d100"};
+  return {"sick_s300", "hokuyo_urg04lx", "sick_lms200", "vlp16", "pmd_o3d100", "recorded"};
 }
 
 SensorSpec sensorPreset(const std::string& preset) {
@@ -34,6 +34,11 @@ SensorSpec sensorPreset(const std::string& preset) {
   if (preset == "sick_lms200") return sickLMS200();
   if (preset == "vlp16") return velodyneVLP16();
   if (preset == "pmd_o3d100") return pmdO3D100();
+  if (preset == "recorded") {  // a planar scanner whose geometry the recording gives
+    PlanarScannerSpec p;
+    p.from_recording = true;
+    return p;
+  }
   std::string known;
   for (const auto& n : sensorPresetNames()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown sensor preset '" + preset + "' (known: " + known + ")");

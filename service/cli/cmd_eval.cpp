@@ -124,7 +124,7 @@ void addOptions(CLI::App& c, EvalArgs& a, bool kidnap) {
 }  // namespace
 
 void registerEval(CLI::App& app) {
-  CLI::App& eval = *app.add_subcommand("eval", "Trials on simulated runs: global localisation, kidnapping, people tracking, depth filtering");
+  CLI::App& eval = *app.add_subcommand("eval", "Trials on simulated runs (global localisation, kidnapping, people tracking, depth filtering) and on real logs (carmen)");
   eval.require_subcommand(1);
   auto g = std::make_shared<EvalArgs>();
   CLI::App& global = *eval.add_subcommand("global", "Global localisation from a uniform prior at random starts");
@@ -138,6 +138,7 @@ void registerEval(CLI::App& app) {
   kidnap.callback([k] { runEval(*k, true); });
   registerEvalTracking(eval);
   registerEvalDepth(eval);
+  registerEvalCarmen(eval);
 }
 
 }  // namespace polyloc::cli

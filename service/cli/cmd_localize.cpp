@@ -4,6 +4,7 @@
 // Progress on stderr when it is a terminal; a summary (or --json) on stdout.
 #include "cli/commands.hpp"
 #include "cli/parse_number.hpp"
+#include "reloc/recorded_rig.hpp"
 #include "reloc/recording_job.hpp"
 #include "reloc/report.hpp"
 
@@ -30,6 +31,7 @@ using Clock = std::chrono::steady_clock;
 struct LocalizeArgs {
   std::string map, input, config, init, ground_truth, out, plot, csv, sensors;
   std::string init_sigma = "0.1,5";
+  double restamp_hz = 0;
   bool global = false, json = false;
   size_t plot_particles = 500;
 };
@@ -54,12 +56,13 @@ void runLocalize(const LocalizeArgs& a) {
   if (a.global && !a.init.empty()) throw std::runtime_error("--init and --global exclude each other");
   // The recording first: a missing or unreadable input fails before the slow map load.
   openRecording(a.input);
-  PolylocConfig cfg = loadConfig(a.config);
+  PolylocConfig cfg = loadConfig(a.config, {.map_optional = !a.map.empty(), .recorded_rig = true});
   const std::string map_file = a.map.empty() ? cfg.map.file : a.map;
   const Mesh mesh = loadMesh(map_file, cfg.map.load);
 
   reloc::JobOptions jo;
   jo.input = a.input;
+  jo.restamp_hz = a.restamp_hz;
   jo.ground_truth_file = a.ground_truth;
   jo.sensors = reloc::sensorMask(cfg.rig, a.sensors);
   // How the filter starts: --init, --global, else the first ground-truth pose, else global.
@@ -92,6 +95,11 @@ void runLocalize(const LocalizeArgs& a) {
   EmbreeOptions eo;
   eo.threads = cfg.mcl.threads;
   EmbreeCaster caster(mesh, eo);
+  // The weighing backend's slice height follows the rig (grid2d): complete a recorded one first.
+  if (reloc::needsRecordedRig(cfg)) {
+    cfg.rig = reloc::recordedRig(cfg, *reloc::openJobRecording(jo), a.input);
+    cfg.rig_from_recording = false;
+  }
   const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(mesh, cfg.rig, cfg.mcl, cfg.mcl.threads);
   reloc::JobResult r = reloc::runRecordingJob({cfg, mesh, caster, weigh.get()}, jo);
   if (tty) fmt::print(stderr, "\n");
@@ -154,6 +162,8 @@ void registerLocalize(CLI::App& app) {
   cmd.add_flag("--global", args->global, "Global localisation (default without --init: the first ground-truth pose, if any)");
   cmd.add_option("--init-sigma", args->init_sigma, "Start spread xy_m,yaw_deg for --init and ground-truth starts")->capture_default_str();
   cmd.add_option("--ground-truth", args->ground_truth, "Ground truth as TUM (default: the recording's /ground_truth)");
+  cmd.add_option("--restamp", args->restamp_hz, "Restamp every message by its order in the recording at this rate (Hz), for logs whose stamps do not increase")
+      ->check(CLI::Range(1e-3, 1e9));
   cmd.add_option("--sensors", args->sensors, "Rig sensors whose frames are used, comma-separated (default: all; the filter also weighs only the config's mcl.sensors)");
   cmd.add_option("--out", args->out, "Write the estimate after each update as TUM");
   cmd.add_option("--plot", args->plot, "Draw map, ground truth, estimate and particle clouds as PNG");

@@ -44,8 +44,11 @@ void runRelocalize(RelocalizeArgs& a) {
   const std::unique_ptr<reloc::Cluster> cluster = reloc::Cluster::join();
   const int rank = cluster->rank(), ranks = cluster->size();
 
-  PolylocConfig cfg = loadConfig(a.config);
+  PolylocConfig cfg = loadConfig(a.config, {.map_optional = !a.map.empty(), .recorded_rig = true});
   cfg.mcl.threads = 0;  // weigh in the batch's arena (reloc/batch_run.hpp)
+  if (cfg.rig_from_recording && (!a.sensors.empty() || cfg.mcl.caster != "embree"))
+    throw std::runtime_error(fmt::format("{}: --sensors and mcl.caster {} need the rig's sensors in the config (rig: recorded "
+                                         "takes them from each recording)", a.config, cfg.mcl.caster));
   o.base.sensors = reloc::sensorMask(cfg.rig, a.sensors);
   o.base.plot = true;
   const reloc::Plan plan = reloc::planBatch(o);
@@ -131,6 +134,8 @@ void registerRelocalize(CLI::App& app) {
   cmd.add_option("--segment", b.segment_s, "Split recordings into segments of this many seconds (0: whole)")->capture_default_str();
   cmd.add_option("--warmup", b.warmup_s, "Seconds the filter runs before each segment but the first")->capture_default_str();
   cmd.add_option("--covariance", args->covariance, "CSV covariance columns: diag or full")->capture_default_str();
+  cmd.add_option("--restamp", b.base.restamp_hz, "Restamp every message by its order in the recording at this rate (Hz), for logs whose stamps do not increase")
+      ->check(CLI::Range(1e-3, 1e9));
   cmd.add_option("--sensors", args->sensors, "Rig sensors whose frames are used, comma-separated (default: all; the filter also weighs only the config's mcl.sensors)");
   cmd.add_flag("--json", args->json, "Print the summary (DIR/summary.json) as one JSON object");
   cmd.callback([args] { runRelocalize(*args); });

@@ -23,6 +23,7 @@ void registerEval(CLI::App& app);         // polyloc eval global|kidnap|tracking
 void registerEvalTracking(CLI::App& eval); // polyloc eval tracking ...  (cmd_eval_tracking.cpp)
 void registerPerceive(CLI::App& app);     // polyloc perceive ...       (cmd_perceive.cpp)
 void registerEvalDepth(CLI::App& eval);   // polyloc eval depth ...     (cmd_eval_depth.cpp)
+void registerEvalCarmen(CLI::App& eval);  // polyloc eval carmen ...    (cmd_eval_carmen.cpp)
 void registerPlay(CLI::App& app);         // polyloc play ...           (cmd_play.cpp)
 void registerCtl(CLI::App& app);          // polyloc ctl --port P CMD   (cmd_ctl.cpp)
 

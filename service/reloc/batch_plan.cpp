@@ -43,7 +43,7 @@ Plan planBatch(const BatchOptions& o) {
     }
     RecordingSpan span;
     try {
-      span = spanOf(openRecording(o.inputs[i])->topics());
+      span = spanOf(openJobRecording(job)->topics());
     } catch (const std::exception& e) {
       plan.input_errors.back() = e.what();
       continue;

@@ -1,6 +1,10 @@
 #include "reloc/recording_job.hpp"
 
+#include "reloc/recorded_rig.hpp"
+
 #include <polyloc/io/recording.hpp>
+#include <polyloc/io/restamp.hpp>
+#include <polyloc/io/stamp_check.hpp>
 #include <polyloc/sim/simulator.hpp>  // fromMsgPose
 
 #include <fmt/core.h>
@@ -15,10 +19,25 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The stamp a consumer uses: the header's, else the log time.
+int64_t headerStamp(const RecordedMessage& m) {
+  int64_t t = 0;
+  std::visit([&](const auto& x) {
+    if constexpr (requires { x.header.stamp; }) t = msg::toNs(x.header.stamp);
+  }, m.message);
+  return t ? t : m.log_time_ns;
+}
+
 }  // namespace
 
-std::optional<StampedPose> firstTruth(const std::string& input, int64_t from_ns) {
-  auto reader = openRecording(input);
+std::unique_ptr<RecordingReader> openJobRecording(const JobOptions& o) {
+  auto reader = o.open ? o.open() : openRecording(o.input);
+  if (o.restamp_hz > 0) reader = restampByOrder(std::move(reader), o.restamp_hz);
+  return reader;
+}
+
+std::optional<StampedPose> firstTruth(const JobOptions& o, int64_t from_ns) {
+  auto reader = openJobRecording(o);
   RecordedMessage m;
   for (int i = 0; i < 100000 && reader->next(m);) {
     if (m.log_time_ns < from_ns) continue;  // skipped without counting: a late segment's start
@@ -52,8 +71,7 @@ std::vector<EstimatedPose> estimatesOf(const std::vector<FrameRecord>& frames) {
 
 JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   const auto t_start = Clock::now();
-  const Rig& rig = ctx.config.rig;
-  auto reader = openRecording(o.input);
+  auto reader = openJobRecording(o);
   JobResult res;
   res.input = o.input;
   res.format = reader->format();
@@ -65,6 +83,11 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   auto warn = [&](const std::string& key, const std::string& text) {
     if (warned.insert(key).second) log(fmt::format("warning: {} (warned once)", text));
   };
+  // The rig: the config's, or made (completed) from the recording's scans.
+  std::vector<std::string> rig_notes;
+  res.rig = needsRecordedRig(ctx.config) ? recordedRig(ctx.config, *openJobRecording(o), o.input, &rig_notes) : ctx.config.rig;
+  const Rig& rig = res.rig;
+  for (const auto& n : rig_notes) log(n);
   uint64_t truth_file_rejected = 0;
   if (!o.ground_truth_file.empty()) {
     TumReader tr(o.ground_truth_file);
@@ -80,10 +103,12 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     res.init_mode = "pose";
   } else if (o.start == StartMode::Auto) {
     if (!res.truth.empty()) {
-      for (const auto& p : GroundTruth(res.truth).poses())
+      // A named GroundTruth: poses() of a temporary would dangle in the loop (a random start).
+      const GroundTruth truth(res.truth);
+      for (const auto& p : truth.poses())
         if (p.stamp_ns >= o.read_from_ns) { start = p; break; }
     } else {
-      start = firstTruth(o.input, o.read_from_ns);
+      start = firstTruth(o, o.read_from_ns);
     }
     if (start) {
       res.init_mode = "ground_truth";
@@ -105,7 +130,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   const double progress_ns = std::max<double>(1.0, double(to_ns - from_ns));
 
   std::vector<float> ranges;
-  uint64_t read = 0, unknown_sensor = 0, wrong_size = 0, bad_image = 0, disabled = 0;
+  uint64_t read = 0, unknown_sensor = 0, wrong_size = 0, wrong_geometry = 0, bad_image = 0, disabled = 0;
+  StampCheck stamps;
   bool initialised = false;
   size_t next_cloud = 0;  // clouds at 0, 1/3, 2/3 of the kept span, and the last update
   auto snapshot = [&](const MclEstimate& e) {
@@ -117,7 +143,9 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   };
   auto initialise = [&](int64_t stamp) {
     initialised = true;
-    res.init_ns = start && start->stamp_ns ? start->stamp_ns : stamp;
+    // The filter starts at the message that starts it: a ground-truth pose's own stamp may lie
+    // anywhere (a file on another clock), and times in outputs count from here.
+    res.init_ns = stamp;
     if (start) loc.initPose(start->pose, cov, res.init_ns);
     else loc.initGlobal(res.init_ns);
   };
@@ -134,6 +162,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     if (m.log_time_ns < o.read_from_ns) continue;  // before this segment's warm-up
     if (m.log_time_ns >= o.keep_to_ns) break;      // the next segment's span
     ++read;
+    stamps.add(m.topic, headerStamp(m), read - 1);
     if (o.progress && read % 64 == 0) o.progress(std::clamp(double(m.log_time_ns - from_ns) / progress_ns, 0.0, 1.0), loc.counters().updates);
     if (const auto* p = std::get_if<msg::PoseStamped>(&m.message)) {
       if (m.topic != "/ground_truth" || !res.truth_from_stream) continue;
@@ -153,6 +182,9 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       case TopicRouter::Kind::Disabled: ++disabled; continue;
       case TopicRouter::Kind::UnknownSensor: ++unknown_sensor, warn(m.topic, r.why); continue;
       case TopicRouter::Kind::WrongSize: ++wrong_size, warn("size " + m.topic, r.why + ": frame rejected"); continue;
+      case TopicRouter::Kind::WrongGeometry:
+        ++wrong_geometry, warn("geometry " + m.topic, r.why + ": frame rejected (a rig sensor of preset 'recorded' takes the recorded geometry)");
+        continue;
       case TopicRouter::Kind::BadImage: ++bad_image, warn("image " + m.topic, r.why + ": frame rejected"); continue;
       case TopicRouter::Kind::Frame: break;
     }
@@ -162,7 +194,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     if (!updated) continue;
     const MclEstimate e = loc.estimate();
     if (e.stamp_ns < o.keep_from_ns || e.stamp_ns >= o.keep_to_ns) continue;  // warm-up
-    res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles});
+    res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles, e.seen_through, e.refined});
+    if (o.stop_after_updates > 0 && e.updates >= o.stop_after_updates) break;
     if (!o.plot) continue;
     if (isFinite(e.pose)) res.plot.estimate_path.emplace_back(float(e.pose.x()), float(e.pose.y()));
     if (next_cloud < 3 && double(e.stamp_ns - plot_from) >= next_cloud * plot_span / 3) {
@@ -178,6 +211,11 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   const ReadStats& rs = reader->stats();
   for (size_t i = 0; i < rs.warnings.size() && i < 5; ++i) res.warnings.push_back(rs.warnings[i]);
   if (!initialised) log(fmt::format("warning: {}: no odometry and no scans for the rig", o.input));
+  res.stamp_warnings = stamps.warnings();
+  res.stamps_bad = stamps.bad();
+  for (const auto& w : res.stamp_warnings)
+    log(fmt::format("warning: {}{}", w, o.restamp_hz > 0 ? "" : " (--restamp HZ orders the messages by their place in the log)"));
+
 
   const MclCounters& c = loc.counters();
   res.counters = {{"messages", read},
@@ -186,8 +224,10 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"odometry_out_of_order", c.odometry_out_of_order},
                   {"odometry_gaps", c.odometry_gaps},
                   {"scans", c.scans},
-                  {"scans_rejected", c.scans_rejected + wrong_size + bad_image},
+                  {"scans_rejected", c.scans_rejected + wrong_size + wrong_geometry + bad_image},
                   {"scans_wrong_size", wrong_size},
+                  {"scans_wrong_geometry", wrong_geometry},
+                  {"stamps_not_increasing", stamps.bad()},
                   {"scans_bad_image", bad_image},
                   {"scans_unknown_sensor", unknown_sensor},
                   {"scans_disabled", disabled},
@@ -196,6 +236,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"refinements", c.refinements},
                   {"refinements_refused", c.refinements_refused},
                   {"relocalizations", c.relocalizations},
+                  {"contradicted", c.contradicted},
                   {"hypotheses", c.hypotheses},
                   {"particles_blocked", c.particles_blocked},
                   {"blocked_ignored", c.blocked_ignored},

@@ -13,6 +13,7 @@
 
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/eval/trajectory_metrics.hpp>
+#include <polyloc/io/recording.hpp>
 #include <polyloc/io/tum.hpp>
 #include <polyloc/map/mesh.hpp>
 #include <polyloc/mcl/localizer.hpp>
@@ -23,6 +24,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,6 +44,9 @@ enum class StartMode { Auto, Global, Pose };
 
 struct JobOptions {
   std::string input;
+  // Opens the recording (default: openRecording(input)); e.g. an in-memory run of eval carmen.
+  std::function<std::unique_ptr<RecordingReader>()> open;
+  double restamp_hz = 0;              // > 0: every message restamped by its order (io/restamp.hpp)
   StartMode start = StartMode::Auto;  // Auto: first ground-truth pose (of the read span), else global
   Pose start_pose;                    // StartMode::Pose
   double init_sigma_xy_m = 0.1, init_sigma_yaw_deg = 5;  // spread of pose and ground-truth starts
@@ -52,6 +57,7 @@ struct JobOptions {
   int64_t read_from_ns = std::numeric_limits<int64_t>::min();
   int64_t keep_from_ns = std::numeric_limits<int64_t>::min();
   int64_t keep_to_ns = std::numeric_limits<int64_t>::max();
+  size_t stop_after_updates = 0;      // > 0: stop reading after this many measurement updates
   bool plot = false;                  // collect the paths and particle clouds for the PNG
   size_t plot_particles = 500;        // particles per cloud in the plot
   // Progress, fraction 0..1 of the span to read, called every ~64 messages (from this thread).
@@ -68,10 +74,13 @@ struct FrameRecord {
   MclStatus status = MclStatus::Initialising;
   double ess = 0;
   size_t particles = 0;
+  double seen_through = 0;            // share of the round's beams beyond the map's surface (mcl.fit)
+  bool refined = false;               // the estimate was refined against the mesh (mcl.refine)
 };
 
 struct JobResult {
   std::string input, format;
+  Rig rig;                            // the rig used: the config's, completed from the recording when it asks
   std::string init_mode = "global";   // "global", "pose", "ground_truth"
   int64_t init_ns = 0;                // when the filter started (0: never)
   int64_t keep_from_ns = 0, keep_to_ns = 0;  // the kept span as given (for the merge)
@@ -86,13 +95,18 @@ struct JobResult {
   double filter_s = 0, wall_s = 0;
   viz::LocalizePlotData plot;         // estimate path and clouds (truth path: see truthPath)
   std::vector<std::string> warnings;  // of the reader, first 5
+  std::vector<std::string> stamp_warnings;  // stamps that do not increase, per topic (io/stamp_check.hpp)
+  uint64_t stamps_bad = 0;
 };
 
 // Throws (IoError, std::runtime_error) when the input cannot be read at all.
 JobResult runRecordingJob(const JobContext& ctx, const JobOptions& options);
 
+// The recording of a job, as the job reads it (options.open or the file; restamped when asked).
+std::unique_ptr<RecordingReader> openJobRecording(const JobOptions& options);
+
 // The first /ground_truth pose at or after `from_ns` (a short pass over the recording).
-std::optional<StampedPose> firstTruth(const std::string& input, int64_t from_ns);
+std::optional<StampedPose> firstTruth(const JobOptions& options, int64_t from_ns);
 
 // --sensors "a,b": which rig sensors are used (empty list: all). Throws naming a sensor the
 // rig does not have.

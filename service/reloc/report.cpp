@@ -39,7 +39,7 @@ std::string covHeader(CsvCovariance cov) {
   if (cov == CsvCovariance::Full)
     for (int i = 0; i < 6; ++i)
       for (int j = i; j < 6; ++j) h += fmt::format(",cov_{}{}", i, j);
-  return h + ",ess,particles";
+  return h + ",ess,particles,seen_through,refined";
 }
 
 std::string covColumns(const FrameRecord* f, CsvCovariance cov) {
@@ -50,7 +50,7 @@ std::string covColumns(const FrameRecord* f, CsvCovariance cov) {
   if (cov == CsvCovariance::Full)
     for (int i = 0; i < 6; ++i)
       for (int j = i; j < 6; ++j) s += fmt::format(",{:.6g}", f->covariance(i, j));
-  return s + fmt::format(",{:.1f},{}", f->ess, f->particles);
+  return s + fmt::format(",{:.1f},{},{:.3f},{}", f->ess, f->particles, f->seen_through, f->refined ? 1 : 0);
 }
 
 }  // namespace
@@ -93,7 +93,10 @@ void writeTum(const std::string& path, const std::vector<FrameRecord>& frames) {
 std::optional<TrajectoryMetrics> evaluate(const JobResult& r) {
   if (r.truth.empty()) return std::nullopt;
   MetricsOptions mo;
+  // Times count from the filter's start, never after the first estimate: t_s and
+  // converged_after_s are not negative whatever clock the recording's stamps are on.
   mo.start_ns = r.init_ns;
+  if (!r.frames.empty() && (mo.start_ns == 0 || r.frames.front().stamp_ns < mo.start_ns)) mo.start_ns = r.frames.front().stamp_ns;
   return evaluateTrajectory(estimatesOf(r.frames), GroundTruth(r.truth), mo);
 }
 

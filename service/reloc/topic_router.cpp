@@ -1,4 +1,7 @@
 #include "reloc/topic_router.hpp"
+#include "reloc/recorded_rig.hpp"
+
+#include <polyloc/sensors/recorded_geometry.hpp>
 
 #include <fmt/core.h>
 
@@ -21,9 +24,7 @@ TopicRouter::TopicRouter(const Rig& rig, std::vector<bool> enabled) : rig_(rig),
 
 int TopicRouter::sensorForScan(const std::string& topic) const {
   if (auto it = scan_cache_.find(topic); it != scan_cache_.end()) return it->second;
-  std::string name = topic;
-  if (name.starts_with("/scan/")) name = name.substr(6);
-  else if (name.starts_with("/")) name = name.substr(1);
+  const std::string name = sensorNameForTopic(topic);
   int s = rig_.find(name);
   // CARMEN logs name their lasers, not the rig's sensors: front and robot laser -> the first
   // planar scanner, rear laser -> the second (docs/localization.md).
@@ -56,7 +57,12 @@ TopicRouter::Result TopicRouter::route(const std::string& topic, int64_t log_tim
     }
     r.stamp_ns = msg::toNs(scan->header.stamp);
     if (!enabled_[r.sensor]) return r.kind = Kind::Disabled, r;
-    if (scan->ranges.size() != beams_[r.sensor]) {
+    if (std::string mismatch = geometryMismatch(rig_.sensors[r.sensor], *scan); !mismatch.empty()) {
+      r.kind = scan->ranges.size() != beams_[r.sensor] ? Kind::WrongSize : Kind::WrongGeometry;
+      r.why = fmt::format("{}: {}", topic, mismatch);
+      return r;
+    }
+    if (scan->ranges.size() != beams_[r.sensor]) {  // a lidar's organised cloud: its count only
       r.kind = Kind::WrongSize;
       r.why = fmt::format("{}: {} ranges, sensor '{}' has {} beams", topic, scan->ranges.size(),
                           rig_.sensors[r.sensor].name, beams_[r.sensor]);

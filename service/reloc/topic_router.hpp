@@ -21,7 +21,9 @@ class TopicRouter {
   // enabled: per rig sensor, whether its frames go to the filter (--sensors).
   TopicRouter(const Rig& rig, std::vector<bool> enabled);
 
-  enum class Kind { Frame, Ignored, UnknownSensor, Disabled, WrongSize, BadImage };
+  // WrongSize: a scan's count (or an image's size) differs from the sensor's; WrongGeometry: the
+  // count agrees but the recorded angles do not (sensors/recorded_geometry.hpp).
+  enum class Kind { Frame, Ignored, UnknownSensor, Disabled, WrongSize, WrongGeometry, BadImage };
   struct Result {
     Kind kind = Kind::Ignored;
     int sensor = -1;
@@ -30,9 +32,10 @@ class TopicRouter {
   };
   // For a LaserScan or a depth Image: fills `ranges` (the sensor's beam order) on Kind::Frame.
   Result route(const std::string& topic, int64_t log_time_ns, const msg::Message& m, std::vector<float>& ranges);
+  // The rig sensor a LaserScan topic feeds, or -1.
+  int sensorForScan(const std::string& topic) const;
 
  private:
-  int sensorForScan(const std::string& topic) const;
   int sensorForDepth(const std::string& topic) const;
 
   const Rig& rig_;

@@ -17,7 +17,7 @@ void bindMclConfig(pb::module_& m) {
     using T = MotionNoise;
     auto c = pb::class_<T>(m, "MotionNoise", "motion: odometry noise (Thrun alpha1..4), 6-DoF diffusion").def(pb::init<>());
     c POLYLOC_RW(alpha1) POLYLOC_RW(alpha2) POLYLOC_RW(alpha3) POLYLOC_RW(alpha4) POLYLOC_RW(z_per_m)
-        POLYLOC_RW(roll_pitch_per_m) POLYLOC_RW(omni);
+        POLYLOC_RW(roll_pitch_per_m) POLYLOC_RW(omni) POLYLOC_RW(outlier_ratio) POLYLOC_RW(outlier_scale);
   }
   {
     using T = BeamModel;
@@ -61,6 +61,11 @@ void bindMclConfig(pb::module_& m) {
         POLYLOC_RW(max_correction) POLYLOC_RW(max_correction_yaw) POLYLOC_RW(beams_per_scan) POLYLOC_RW(fresh);
   }
   {
+    using T = FitCheck;
+    auto c = pb::class_<T>(m, "FitCheck", "fit: rounds whose beams see through the map contradict the estimate").def(pb::init<>());
+    c POLYLOC_RW(tolerance) POLYLOC_RW(max_seen_through) POLYLOC_RW(beams_per_scan);
+  }
+  {
     using T = MclConfig;
     auto c = pb::class_<T>(m, "MclConfig",
                            "Monte-Carlo localisation settings: the `mcl:` section, every key a field "
@@ -69,13 +74,13 @@ void bindMclConfig(pb::module_& m) {
     c POLYLOC_RW(dof) POLYLOC_RW(model) POLYLOC_RW(depth_model) POLYLOC_RW(particles) POLYLOC_RW(min_particles)
         POLYLOC_RW(max_particles) POLYLOC_RW(global_particles) POLYLOC_RW(kld) POLYLOC_RW(kld_epsilon)
         POLYLOC_RW(kld_z) POLYLOC_RW(kld_bin_xy) POLYLOC_RW(kld_bin_yaw) POLYLOC_RW(resample_ess)
-        POLYLOC_RW(alpha_slow) POLYLOC_RW(alpha_fast) POLYLOC_RW(global_coarse_rounds)
-        POLYLOC_RW(relocalize_rounds) POLYLOC_RW(relocalize_threshold) POLYLOC_RW(relocalize_jump)
-        POLYLOC_RW(beams_per_scan) POLYLOC_RW(subsample) POLYLOC_RW(update_min_distance)
-        POLYLOC_RW(update_min_angle) POLYLOC_RW(round_timeout) POLYLOC_RW(robot_radius) POLYLOC_RW(body_height)
+        POLYLOC_RW(alpha_slow) POLYLOC_RW(alpha_fast) POLYLOC_RW(global_coarse_rounds) POLYLOC_RW(global_max_coarse_rounds)
+        POLYLOC_RW(relocalize_rounds) POLYLOC_RW(relocalize_jump)
+        POLYLOC_RW(beams_per_scan) POLYLOC_RW(effective_beams) POLYLOC_RW(subsample) POLYLOC_RW(update_min_distance)
+        POLYLOC_RW(update_min_angle) POLYLOC_RW(round_timeout) POLYLOC_RW(clearance) POLYLOC_RW(clearance_margin) POLYLOC_RW(body_height)
         POLYLOC_RW(blocked_max_mass) POLYLOC_RW(uncertain_xy) POLYLOC_RW(uncertain_yaw) POLYLOC_RW(motion)
         POLYLOC_RW(beam) POLYLOC_RW(refine) POLYLOC_RW(hypotheses) POLYLOC_RW(depth)
-        POLYLOC_RW(likelihood_field) POLYLOC_RW(plane_fragments) POLYLOC_RW(seed) POLYLOC_RW(threads);
+        POLYLOC_RW(likelihood_field) POLYLOC_RW(plane_fragments) POLYLOC_RW(fit) POLYLOC_RW(seed) POLYLOC_RW(threads);
     c.def_static("from_yaml", [](const std::string& text) { return parseMclConfig(ConfigMap::parse(text, "<mcl>")); },
                  pb::arg("text"), "From the YAML of an `mcl:` section: defaults for absent keys, ConfigError for bad ones.");
   }

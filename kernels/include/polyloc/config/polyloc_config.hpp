@@ -32,17 +32,28 @@ struct MapConfig {
 
 struct PolylocConfig {
   std::string file;  // where it was read from
-  MapConfig map;
+  MapConfig map;     // file empty: none given (only with ConfigLoad::map_optional)
   RobotSpec robot;
   Rig rig;
+  // `rig: recorded` (or no rig, with ConfigLoad::recorded_rig): the rig is made from the
+  // recording being localised (reloc/recorded_rig.hpp); `rig` is empty until then.
+  bool rig_from_recording = false;
   MclConfig mcl;  // `mcl:` section (polyloc/mcl/config_yaml.hpp); defaults when absent
   VrsConfig vrs;  // `vrs:` section (polyloc/vrs/config_yaml.hpp); robot_height from robot.height
   TrackingConfig tracking;  // `tracking:` section (polyloc/tracking/config_yaml.hpp); defaults when absent
   DepthFilterConfig depth_filter;  // `depth_filter:` section (polyloc/depth/config_yaml.hpp)
 };
 
-// Throws ConfigError naming file, line and key (also when the map file does not exist).
-PolylocConfig loadConfig(const std::string& path);
+// What a command can do without: the map (it takes --map) and the rig (it reads the geometry
+// from a recording: localize, relocalize, eval carmen).
+struct ConfigLoad {
+  bool map_optional = false;
+  bool recorded_rig = false;
+};
+
+// Throws ConfigError naming file, line and key (also when the map file does not exist, and for a
+// missing map or a recorded rig that `load` does not allow).
+PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load = {});
 
 // Sections, for files that embed or override them (scenarios). readMapConfig takes the `map`
 // value (a path or a mapping) and checks that the file exists.

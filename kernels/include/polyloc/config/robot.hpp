@@ -24,6 +24,9 @@ struct RobotSpec {
   Kinematics kinematics = Kinematics::Differential;
 
   double boundingRadius() const;  // largest distance of the outline from base_link
+  // Smallest distance of the outline from base_link: the circle about base_link that the body
+  // surely covers (0 when base_link lies outside the footprint).
+  double inscribedRadius() const;
   // Points on the outline, at most `spacing` apart (base frame).
   std::vector<Eigen::Vector2d> outline(double spacing) const;
   // Where the robot touches the floor: the footprint's corners (a polygon), or four points at

@@ -34,9 +34,15 @@ struct ReadStats {
   uint64_t messages = 0;        // delivered by next()
   uint64_t rejected = 0;        // records skipped as bad (warnings says why)
   std::vector<std::string> warnings;  // "FILE: topic T at t=...: what was wrong", first 100 kept
+  // How the reader read what the file left open (a field of an old format taken in another
+  // unit, odometry taken from the scans' fields), once each; nothing was rejected.
+  std::vector<std::string> notes;
   void warn(std::string w) {
     ++rejected;
     if (warnings.size() < 100) warnings.push_back(std::move(w));
+  }
+  void note(std::string n) {
+    if (notes.size() < 100) notes.push_back(std::move(n));
   }
 };
 

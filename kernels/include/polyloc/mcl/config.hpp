@@ -16,10 +16,15 @@ struct MotionNoise {
   // 6-DoF diffusion per metre travelled (dof: 6): z (m), roll and pitch (rad).
   double z_per_m = 0.01, roll_pitch_per_m = 0.005;
   bool omni = false;  // omni drive: x, y, yaw noise independent; else differential (rot-trans-rot)
+  // Heavy tails: this share of the particles moves with outlier_scale times the noise. Real
+  // odometry slips and jumps (a wheel over a threshold, a log whose odometry is off by 20 deg
+  // now and then): with Gaussian noise alone no particle follows, the cloud is left behind.
+  double outlier_ratio = 0.1;
+  double outlier_scale = 5.0;
 };
 
 struct BeamModel {
-  double sigma_hit = 0.05;     // m, measurement noise of a hit (plus map error)
+  double sigma_hit = 0.1;      // m, measurement noise of a hit plus map error (real maps: cm off, walls of cells)
   double z_hit = 0.85, z_short = 0.05, z_max = 0.05, z_rand = 0.05;
   double lambda_short = 1.0;   // 1/m
   double window_sigmas = 4.0;  // rays only look at measured range +- this many sigma_hit ...
@@ -67,22 +72,32 @@ struct PlaneFragments {
 
 // Local refinement of the estimate (refine.hpp): point-to-plane Gauss-Newton against the mesh.
 struct RefineConfig {
-  bool enabled = false;              // the Localizer runs refinePose after each update
+  bool enabled = true;               // the Localizer runs refinePose after each update
   int iterations = 10;               // Gauss-Newton iterations at most (each re-casts)
   size_t beams_per_scan = 180;       // valid beams per scan, spread evenly (0: all)
   double max_correspondence = 0.15;  // m: larger |residual| is an outlier, dropped
   double huber = 0.03;               // m: Huber threshold of the robust weight
   double min_step = 1e-5;            // m / rad: converged when the step is below this
-  double max_final_step = 1e-3;      // m / rad: the last step when iterations run out, else refused
+  double max_final_step = 1e-3;      // m / rad: a larger last step when iterations run out: circling, the least-cost iterate is taken
   size_t min_correspondences = 20;   // fewer: refused
   double max_correction = 0.3;       // m: larger corrections are refused (a wrong-mode estimate)
   double max_correction_yaw = 0.1;   // rad: bound on the rotation angle of the correction
   // Of the selected beams, at least this fraction must be inliers at the end, else refused. The
   // gate above keeps far-off starts from travelling far: from 0.2-1 m off they settle where only
-  // some walls agree (40-60% inliers, versus ~100% at the true pose in a mapped room), so this,
-  // not max_correction, is what refuses most wrong-mode estimates.
-  double min_inlier_ratio = 0.7;
+  // some walls agree (40-60% inliers, versus ~100% at the true pose in a mapped room). Real scans
+  // see people and what the map lacks: at 0.7, a quarter of the CARMEN test scans were refused
+  // at the right place; the fit check (mcl.fit) catches wrong places.
+  double min_inlier_ratio = 0.5;
   double cast_margin = 1.0;          // m: rays stop at measured range + this (early traversal exit)
+  // Before Gauss-Newton, an exhaustive search of x, y +- search_xy and yaw +- search_yaw
+  // (pose_search.hpp) with search_beams beams per scan: on real maps (walls of grid cells,
+  // centimetres off) the refinement's basin is a few centimetres and the cloud's mean is not
+  // always in it. 0 and 0: none.
+  double search_xy = 0.1;
+  double search_yaw = 0.0349065850398866;  // rad (2 deg)
+  double search_step_xy = 0.05;            // m: the coarse grid (then a quarter step around its best)
+  double search_step_yaw = 0.0174532925199433;  // rad (1 deg)
+  size_t search_beams = 120;
   // Degrees of freedom refined: 0 = the filter's dof; 6 also with dof 3, so that the tilted
   // scanners' view of the floor corrects z, roll and pitch taken from the floor under the robot.
   int dof = 0;
@@ -118,6 +133,17 @@ struct GlobalHypotheses {
   size_t fresh = 10000;            // uniform particles added after each coarse round (new candidates)
 };
 
+// Lost, or only hidden by people and clutter? (fit_check.hpp) After each round the estimate's
+// beams are cast in the map; a round in which more than max_seen_through of them end beyond the
+// map's surface (seen through a wall) contradicts the estimate. Only such rounds inject
+// particles and count towards sensor resetting: the likelihood level alone varies with map
+// error, people and places, and on real logs fired the recovery while the track was fine.
+struct FitCheck {
+  double tolerance = 0.3;          // m: a beam this much beyond the map's surface saw through it
+  double max_seen_through = 0.25;  // share of the round's beams (averaged over relocalize_rounds for resetting)
+  size_t beams_per_scan = 60;      // per frame of the round, evenly spread (0: all)
+};
+
 struct MclConfig {
   int dof = 3;                      // 3: x, y, yaw on the floor; 6: full pose
   std::string model = "beam";       // scanners, lidar: beam | likelihood_field | plane_fragments
@@ -133,7 +159,10 @@ struct MclConfig {
   // m above the floor where grid2d slices the map; NaN: the lowest level scanner the filter weighs
   double caster_height = std::numeric_limits<double>::quiet_NaN();
   size_t particles = 2000;          // initial count (tracking)
-  size_t min_particles = 500;       // KLD-sampling bounds
+  // KLD-sampling bounds. A tracking cloud occupies few KLD bins, so the lower bound is what it
+  // gets: with scans a metre or two apart the prior spreads over 10 cm and 2 deg, and 500
+  // particles put too few near a likelihood a few centimetres wide.
+  size_t min_particles = 2000;
   size_t max_particles = 20000;
   size_t global_particles = 20000;  // for global localisation
   bool kld = true;
@@ -141,24 +170,40 @@ struct MclConfig {
   double kld_bin_xy = 0.2, kld_bin_yaw = 0.175;  // m, rad (10 deg)
   double resample_ess = 0.5;        // resample when ESS / N drops below this
   double alpha_slow = 0.001, alpha_fast = 0.1;  // augmented MCL (0 disables injection)
-  // Sensor resetting: after this many rounds in a row with an injection probability of at least
-  // relocalize_threshold (0.5 at most: w_fast half of w_slow), or with status lost, the filter
-  // starts over from a uniform prior of global_particles (0 disables).
   // After a uniform prior, this many rounds are weighed coarse even when one cluster already
   // dominates: the robot moves and sees more before the filter commits to one place.
   size_t global_coarse_rounds = 5;
+  // ... and more, up to this many, until the estimate is refined against the mesh and not
+  // contradicted by the fit check (mcl.fit): then the filter commits.
+  size_t global_max_coarse_rounds = 30;
+  // Sensor resetting: after this many rounds in a row whose scans contradict the estimate
+  // (mcl.fit), the filter starts over from a uniform prior of global_particles (0 disables).
   size_t relocalize_rounds = 5;
-  double relocalize_threshold = 0.45;
   // A tracked estimate that jumps farther than this (m) in one round, beyond what odometry
-  // moved, was taken over by injected particles: the filter starts over from a uniform prior
-  // rather than trust a place found by a handful of them (0 disables).
+  // moved, into a place the scans contradict, was taken over by injected particles: the filter
+  // starts over from a uniform prior rather than trust a place found by a handful of them
+  // (0 disables).
   double relocalize_jump = 1.0;
   size_t beams_per_scan = 60;       // per sensor per update
+  // Tempering by beam count: a frame's summed log-likelihood counts as that of this many
+  // independent beams (scaled by effective_beams / beams used, when fewer than that are used).
+  // Beams of one scan are not independent: a map a few centimetres off, or a person, biases
+  // neighbouring beams alike, and weighing 60 of them as independent collapses the cloud onto its
+  // luckiest particle (real logs: ESS ~1 of 500). 0: no tempering by count. Applies to the
+  // beam, depth and likelihood-field models while tracking (coarse weighting has its own).
+  double effective_beams = 18;
   std::string subsample = "uniform";  // uniform | random
   double update_min_distance = 0.05;  // m travelled before the next update ...
   double update_min_angle = 0.05;     // ... or rad turned
   double round_timeout = 0.25;      // s: a round of sensor frames still open after this is closed
-  double robot_radius = 0.25;       // particles closer than this to a surface get zero weight
+  // Particles whose body (at body_height) is closer than `clearance` to a surface get zero
+  // weight. Not a key: loadConfig sets it from the robot section, the footprint's inscribed
+  // radius (robot.radius when round) less clearance_margin, so that one robot size rules.
+  double clearance = 0.1;
+  // m: how far the map's surfaces may lie in front of the true ones (an extruded grid's walls
+  // stand up to a cell proud, SLAM maps bend by centimetres): a robot passing close to a wall
+  // must not find its particles blocked.
+  double clearance_margin = 0.15;
   double body_height = 0.4;         // m above base_link where the clearance above is checked
   // Blocked particles are zeroed only while they hold at most this share of the weight: more
   // means the robot stands where the map says it cannot (passing close to furniture).
@@ -172,6 +217,7 @@ struct MclConfig {
   DepthModel depth;
   LikelihoodField likelihood_field;
   PlaneFragments plane_fragments;
+  FitCheck fit;
   uint64_t seed = 1;
   int threads = 0;                  // 0 = all cores
 };

@@ -11,6 +11,7 @@ namespace polyloc {
 
 // Throws ConfigError naming file, line and key (unknown keys, bad values; with the rig, also
 // mcl.sensors it lacks or a grid2d caster without a level scanner).
-MclConfig parseMclConfig(ConfigMap m, const Rig* rig = nullptr);
+// Keys absent from `m` keep their value in `defaults`.
+MclConfig parseMclConfig(ConfigMap m, const Rig* rig = nullptr, const MclConfig& defaults = {});
 
 }  // namespace polyloc

@@ -27,7 +27,7 @@ class FreeFloor {
   // dof 3: puts each particle on the floor under it (z, roll, pitch from the floor, yaw kept),
   // looking from `step_up` above its base down to `max_drop` below. No floor found: unchanged.
   void snapToFloor(ParticleSet& s, double step_up = 0.3, double max_drop = 1.0) const;
-  // Sets logw = -inf for particles whose body is in solid or closer than robot_radius to a
+  // Sets logw = -inf for particles whose body is in solid or closer than the clearance to a
   // surface, unless they hold more than max_mass of the weight: then the robot evidently stands
   // where the map says it cannot (a tight spot, furniture moved), and zeroing would leave only the
   // particles elsewhere. Returns how many were zeroed, or ignored.

@@ -28,7 +28,7 @@ class LikelihoodFieldModel : public SensorModel {
   // is no longer explained by the map. Not just log(z_rand / range_max): every endpoint scores
   // at least that, so a best particle could never fall below it and "lost" would never show.
   double unexplainedLogLikelihood(size_t sensor) const override;
-  double logScale() const override { return config_.likelihood_field.log_scale; }
+  double logScale() const override { return last_log_scale_; }
 
   // log p of an endpoint at distance d (m) from the map, exactly (weigh uses a table of it).
   static double logLikelihood(double d, double range_max, const LikelihoodField& m);
@@ -44,6 +44,7 @@ class LikelihoodFieldModel : public SensorModel {
   // Per sensor: logLikelihood at d = i * table_step_, i < kTableSize (range_max differs per sensor).
   std::vector<std::vector<double>> tables_;
   double table_inv_step_ = 0;
+  double last_log_scale_ = 1.0;
   // Reused between calls: no allocation once sizes settle.
   std::vector<float> ex_, ey_, ez_;  // endpoints of the selected beams, sensor frame
 };

@@ -34,6 +34,9 @@ struct MclEstimate {
   size_t particles = 0;
   uint64_t updates = 0;     // measurement updates so far
   bool refined = false;     // pose refined against the mesh (mcl.refine) in this round
+  // Share of the round's beams that ended beyond the map's surface at the estimate (fit_check.hpp)
+  double seen_through = 0;
+  bool contradicted = false;  // seen_through above mcl.fit.max_seen_through: the round doubts the estimate
 };
 
 // Particles, structure of arrays; orientation as unit quaternion, weights in log space.
@@ -49,12 +52,13 @@ struct ParticleSet {
 struct MclCounters {
   uint64_t odometry = 0, odometry_out_of_order = 0, odometry_gaps = 0;
   uint64_t odometry_invalid = 0;           // non-finite pose
-  uint64_t particles_blocked = 0;          // weights zeroed: in solid or closer than robot_radius
+  uint64_t particles_blocked = 0;          // weights zeroed: in solid or closer than the clearance
   uint64_t blocked_ignored = 0;            // blocked, but holding most of the weight: kept (blocked_max_mass)
   uint64_t weights_collapsed = 0;          // updates where every weight was zero (made uniform)
   uint64_t scans = 0, scans_rejected = 0;  // wrong size, all invalid, unknown sensor, stale
   uint64_t updates = 0, resamples = 0, injected = 0;
   uint64_t relocalizations = 0;  // global re-initialisations after a kidnapping (relocalize_rounds)
+  uint64_t contradicted = 0;     // rounds whose beams saw through the map at the estimate (mcl.fit)
   uint64_t refinements = 0, refinements_refused = 0;  // mcl.refine: accepted, refused
   uint64_t hypotheses = 0;  // refined modes planted back in global localisation (mcl.hypotheses)
 };

@@ -31,6 +31,11 @@ struct SensorFrame {
   bool coarse = false;
 };
 
+// Tempering by beam count (MclConfig::effective_beams): the factor for a frame of `used` beams.
+inline double countTempering(double effective_beams, size_t used) {
+  return effective_beams > 0 && double(used) > effective_beams ? effective_beams / double(used) : 1.0;
+}
+
 class SensorModel {
  public:
   virtual ~SensorModel() = default;

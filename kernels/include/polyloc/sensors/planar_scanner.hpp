@@ -5,6 +5,8 @@
 
 #include <polyloc/sensors/beams.hpp>
 
+#include <limits>
+
 namespace polyloc {
 
 struct PlanarScannerSpec {
@@ -13,8 +15,14 @@ struct PlanarScannerSpec {
   double range_min = 0.05;
   double range_max = 30.0;
   double rate_hz = 12.5;
+  // Angle of the first beam; NaN: the beams are centred on the x axis. A recorded scan need not
+  // be centred (a CARMEN FLASER's 180 beams span -90..+89 deg).
+  double angle_min_rad = std::numeric_limits<double>::quiet_NaN();
+  // The geometry (fov, resolution, angle_min, ranges) is taken from the first scan on the
+  // sensor's topic in the recording (rig preset `recorded`, sensors/recorded_geometry.hpp).
+  bool from_recording = false;
 
-  size_t numBeams() const;     // floor(fov / resolution) + 1, beams centred on the x axis
+  size_t numBeams() const;     // floor(fov / resolution) + 1
   double angleMin() const;     // angle of the first beam (radians, about z)
   BeamSet beams() const;
 };

@@ -1,0 +1,29 @@
+#include <polyloc/eval/scan_alignment.hpp>
+#include <polyloc/mcl/refine.hpp>
+
+#include <cmath>
+
+namespace polyloc {
+
+ScanAlignment alignScan(const RayCaster& caster, const Rig& rig, size_t sensor, std::span<const float> ranges,
+                        const Pose& guess, const AlignmentSearch& o) {
+  const RefineScan scan{sensor, ranges, Pose()};
+  const std::span<const RefineScan> scans(&scan, 1);
+  const PoseSearchResult s = searchPose(caster, rig, scans, guess, o.search);
+  ScanAlignment res;
+  res.pose = s.pose;
+  res.beams = s.beams;
+  res.inliers = s.inliers;
+  const RefineResult r = refinePose(caster, rig, scans, s.pose, 3, o.refine);
+  res.refine_reason = r.reason;
+  res.rms_m = r.rms;
+  if (r.accepted) {
+    res.pose = r.pose;
+    res.refined = true;
+    res.rms_m = r.rms;
+    res.inliers = r.correspondences;
+  }
+  return res;
+}
+
+}  // namespace polyloc

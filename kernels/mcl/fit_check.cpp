@@ -1,0 +1,42 @@
+#include <polyloc/mcl/beam_model.hpp>
+#include <polyloc/mcl/fit_check.hpp>
+
+#include <cmath>
+#include <vector>
+
+namespace polyloc {
+
+ScanFit checkFit(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans, const Pose& map_T_base,
+                 double tolerance, size_t beams_per_scan) {
+  ScanFit fit;
+  std::vector<float> ox, oy, oz, dx, dy, dz, tmin, tmax, measured;
+  for (const RefineScan& s : scans) {
+    if (s.sensor >= rig.size()) continue;
+    const Sensor& sensor = rig.sensors[s.sensor];
+    const BeamSet all = sensor.beams();
+    const Pose S = map_T_base * s.base_T_base_at_scan * sensor.mount;
+    for (size_t b : BeamSensorModel::selectBeams(all, s.ranges, beams_per_scan)) {
+      const Eigen::Vector3d d = S.rotate(Eigen::Vector3d(all.dx[b], all.dy[b], all.dz[b]));
+      ox.push_back(float(S.x())), oy.push_back(float(S.y())), oz.push_back(float(S.z()));
+      dx.push_back(float(d.x())), dy.push_back(float(d.y())), dz.push_back(float(d.z()));
+      tmin.push_back(all.range_min), tmax.push_back(all.range_max);
+      measured.push_back(s.ranges[b]);
+    }
+  }
+  const size_t n = measured.size();
+  if (n == 0) return fit;
+  std::vector<float> range(n);
+  HitBuffers hits;
+  hits.range = range.data();
+  caster.castRays(RayBatch{ox.data(), oy.data(), oz.data(), dx.data(), dy.data(), dz.data(), tmin.data(), tmax.data(), n}, hits);
+  const float tol = float(tolerance);
+  for (size_t i = 0; i < n; ++i) {
+    ++fit.beams;
+    if (std::isfinite(range[i]) && measured[i] > range[i] + tol) ++fit.longer;
+    else if (std::isfinite(range[i]) && measured[i] >= range[i] - tol) ++fit.explained;
+    else ++fit.shorter;
+  }
+  return fit;
+}
+
+}  // namespace polyloc

@@ -1,0 +1,32 @@
+// The rig a recording is localised with when the config leaves the scanners to the recording:
+// `rig: recorded` (or no rig) makes one planar scanner per LaserScan topic, named after the topic
+// and mounted at base_link (kRecordedHeight above it; CARMEN's rear laser turned by 180 deg);
+// a rig sensor of preset `recorded` keeps its mount and takes its geometry. The geometry is the
+// first scan's on the topic (sensors/recorded_geometry.hpp); later scans that differ from it are
+// rejected by the TopicRouter with a message naming both.
+#pragma once
+
+#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/io/recording.hpp>
+
+#include <string>
+#include <vector>
+
+namespace polyloc::reloc {
+
+inline constexpr double kRecordedHeight = 0.3;  // m: above the floor, below any wall's top
+
+// True when the config's rig needs a recording to be complete.
+bool needsRecordedRig(const PolylocConfig& config);
+
+// The config's rig completed from the recording `reader` reads (its messages are consumed).
+// Notes what it made into `notes`. Throws std::runtime_error naming the recording when a sensor
+// finds no scan (or no usable geometry) on its topic, or the recording has no LaserScan at all.
+Rig recordedRig(const PolylocConfig& config, RecordingReader& reader, const std::string& name,
+                std::vector<std::string>* notes = nullptr);
+
+// The rig sensor name for a scan topic: "/front_laser" -> "front_laser", "/scan/lms" -> "lms",
+// "/robot/scan" -> "robot_scan" (the TopicRouter finds it by the same rule).
+std::string sensorNameForTopic(const std::string& topic);
+
+}  // namespace polyloc::reloc
