@@ -17,7 +17,7 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
   clang libclang-rt-14-dev \
   pybind11-dev python3-dev python3-numpy python3-pytest
 
-.PHONY: run test deps configure build bench clean
+.PHONY: run test deps configure build bench bench-carmen clean
 
 # polylocd on the bundled lab, fed by a live simulation of the lab tour at real time (the
 # stand-in for a robot): status on the terminal (pose, error against ground truth, latency,
@@ -52,6 +52,11 @@ build: configure
 
 bench: build
 	$(BUILD_DIR)/bin/bench_raycast --benchmark_counters_tabular=true
+
+# The real-log table of docs/benchmarks.md on all eight shared logs (about 10 minutes on 2
+# cores), checked against the claimed figures (docs/carmen_figures.json): fails on a 1.5x regression.
+bench-carmen: build
+	CHECK=docs/carmen_figures.json bench/carmen_table.sh $(BUILD_DIR)
 
 clean:
 	rm -rf $(BUILD_DIR)

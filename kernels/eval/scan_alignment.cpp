@@ -18,6 +18,10 @@ ScanAlignment alignScan(const RayCaster& caster, const Rig& rig, size_t sensor, 
   res.refine_reason = r.reason;
   res.rms_m = r.rms;
   if (r.accepted) {
+    const Eigen::Vector2d h(std::cos(r.pose.yaw()), std::sin(r.pose.yaw())), n(-h.y(), h.x());
+    const Eigen::Matrix2d c = r.covariance.topLeftCorner<2, 2>();
+    res.std_along = std::sqrt(std::max(0.0, h.dot(c * h)));
+    res.std_across = std::sqrt(std::max(0.0, n.dot(c * n)));
     res.pose = r.pose;
     res.refined = true;
     res.rms_m = r.rms;

@@ -419,18 +419,10 @@ class CarmenReader final : public RecordingReader {
     CarmenSource pass(path_, odometry_);  // own file handle: next() on source_ is not disturbed
     ReadStats ignored;
     RecordedMessage m;
-    std::vector<TopicInfo> out;
-    std::map<std::string, size_t> index;
-    while (pass.next(m, ignored)) {
-      auto [it, added] = index.try_emplace(m.topic, out.size());
-      if (added) out.push_back({m.topic, msg::typeName(m.message), 0, m.log_time_ns, m.log_time_ns});
-      TopicInfo& t = out[it->second];
-      ++t.count;
-      t.first_ns = std::min(t.first_ns, m.log_time_ns);
-      t.last_ns = std::max(t.last_ns, m.log_time_ns);
-    }
-    topics_ = out;
-    return out;
+    TopicTally tally;
+    while (pass.next(m, ignored)) tally.add(m);
+    topics_ = tally.topics();
+    return *topics_;
   }
   bool next(RecordedMessage& out) override { return source_.next(out, stats_); }
   const ReadStats& stats() const override { return stats_; }

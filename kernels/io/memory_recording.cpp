@@ -12,17 +12,9 @@ class MemoryReader final : public RecordingReader {
       : messages_(std::move(m)), format_(std::move(format)) {}
 
   std::vector<TopicInfo> topics() override {
-    std::vector<TopicInfo> out;
-    std::map<std::string, size_t> index;
-    for (const RecordedMessage& m : *messages_) {
-      auto [it, added] = index.try_emplace(m.topic, out.size());
-      if (added) out.push_back({m.topic, msg::typeName(m.message), 0, m.log_time_ns, m.log_time_ns});
-      TopicInfo& t = out[it->second];
-      ++t.count;
-      t.first_ns = std::min(t.first_ns, m.log_time_ns);
-      t.last_ns = std::max(t.last_ns, m.log_time_ns);
-    }
-    return out;
+    TopicTally tally;
+    for (const RecordedMessage& m : *messages_) tally.add(m);
+    return tally.topics();
   }
   bool next(RecordedMessage& out) override {
     if (pos_ >= messages_->size()) return false;

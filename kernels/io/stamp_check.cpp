@@ -4,6 +4,20 @@
 
 namespace polyloc {
 
+int64_t messageStamp(const RecordedMessage& m) {
+  int64_t t = 0;
+  std::visit([&](const auto& x) {
+    if constexpr (requires { x.header.stamp; }) t = msg::toNs(x.header.stamp);
+  }, m.message);
+  return t ? t : m.log_time_ns;
+}
+
+bool isStampedStream(const RecordedMessage& m) {
+  return std::holds_alternative<msg::LaserScan>(m.message) || std::holds_alternative<msg::PointCloud2>(m.message) ||
+         std::holds_alternative<msg::Image>(m.message) || std::holds_alternative<msg::Odometry>(m.message) ||
+         std::holds_alternative<msg::PoseStamped>(m.message);
+}
+
 void StampCheck::add(const std::string& topic, int64_t t, uint64_t index) {
   Topic& s = topics_[topic];
   const bool first = s.messages++ == 0;

@@ -21,13 +21,14 @@ const char* reason(ScanMapper::Added a) {
 }  // namespace
 
 OccupancyGrid gridFromRecording(RecordingReader& reader, const std::vector<std::string>& scan_topics,
-                                const ScanMapperConfig& config, RecordingGridStats* stats) {
+                                const ScanMapperConfig& config, RecordingGridStats* stats, const ScanSelection& select) {
   RecordingGridStats local;
   RecordingGridStats& st = stats ? *stats : local;
   ScanMapper mapper(config);
   // The scan of each topic still waiting for its pose; a second scan first means none came.
   std::map<std::string, std::optional<msg::LaserScan>> waiting;
   std::map<std::string, std::string> scan_of_pose;  // "<topic>_pose" -> topic
+  std::map<std::string, size_t> number;             // scans with a pose so far, per topic
   for (const auto& t : scan_topics) waiting[t], scan_of_pose[t + "_pose"] = t;
 
   RecordedMessage m;
@@ -45,6 +46,11 @@ OccupancyGrid gridFromRecording(RecordingReader& reader, const std::vector<std::
     if (p == scan_of_pose.end()) continue;
     auto& s = waiting[p->second];
     if (!s) continue;  // a pose without its scan: nothing to place
+    if (number[p->second]++ % std::max<size_t>(select.every, 1) != select.offset) {
+      ++st.skipped["not_selected"];
+      s.reset();
+      continue;
+    }
     const Pose laser = fromMsgPose(pose->pose);
     const auto added = mapper.add(laser.x(), laser.y(), laser.yaw(), s->ranges.data(), s->ranges.size(), s->angle_min,
                                   s->angle_increment, s->range_min, s->range_max);

@@ -29,6 +29,7 @@ ScanMapper::ScanMapper(const ScanMapperConfig& c) : config_(c) {
   if (!(c.clamp_min < logit(c.free_thresh))) bad("clamp_min must be below the free threshold's log-odds");
   if (!(c.clamp_max > logit(c.occupied_thresh))) bad("clamp_max must be above the occupied threshold's log-odds");
   if (!(c.max_range > 0) || !std::isfinite(c.max_range)) bad("max_range must be a finite number > 0");
+  if (!(c.hit_beyond >= 0 && c.hit_beyond <= 2)) bad("hit_beyond must be in [0, 2] cells");
   // Cell offsets go to walkCells as int32.
   if (c.max_cells == 0 || c.max_cells > (size_t(1) << 31)) bad("max_cells must be in 1..2^31");
 }
@@ -103,7 +104,7 @@ ScanMapper::Added ScanMapper::add(double x, double y, double yaw, const float* r
     const double r = ranges[k];
     if (std::isnan(r) || !(r > 0) || r < r_min) continue;  // no reading (CARMEN writes 0), too close
     const bool hit = r < limit;
-    const double d = hit ? r : limit, a = yaw + angle_min + double(k) * angle_increment;
+    const double d = hit ? r + config_.hit_beyond * res : limit, a = yaw + angle_min + double(k) * angle_increment;
     const Beam b{cell(x + d * std::cos(a)), cell(y + d * std::sin(a)), hit};
     i0 = std::min(i0, b.i), j0 = std::min(j0, b.j), i1 = std::max(i1, b.i), j1 = std::max(j1, b.j);
     beams.push_back(b);

@@ -97,6 +97,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     mn.omni = n.getChoice("drive", mn.omni ? "omni" : "differential", {"differential", "omni"}) == "omni";
     mn.outlier_ratio = n.getDouble("outlier_ratio", mn.outlier_ratio, 0, 1);
     mn.outlier_scale = n.getDouble("outlier_scale", mn.outlier_scale, 1, 1000);
+    mn.recovery_scale = n.getDouble("recovery_scale", mn.recovery_scale, 1, 1000);
     n.finish();
   }
   if (m.has("depth")) {

@@ -93,8 +93,7 @@ struct Localizer::Impl {
     updated_once = false;
     round_sensors = round_lost = round_collapsed = 0;
     inject_due = 0;
-    rounds_since_reset = 0;
-    seen_through.clear();
+    rounds_since_reset = low_rounds = 0;
     coarse_left = 0;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
@@ -175,7 +174,15 @@ struct Localizer::Impl {
     // step, not with the number of odometry messages.
     const Pose delta = odom_at_predict.inverse() * scan_odom;
     ++step;
-    if (!delta.isApprox(Pose(), 1e-12)) applyMotion(ps, delta, config.motion, config.dof, rng, step);
+    if (!delta.isApprox(Pose(), 1e-12)) {
+      // After a round whose scans contradicted the estimate the odometry may have slipped or
+      // jumped (a real log's ODOM lines are 20 deg off now and then): the next prediction
+      // spreads wider, so that some particles follow where the scans are.
+      MotionNoise noise = config.motion;
+      if (est.contradicted)
+        for (double* a : {&noise.alpha1, &noise.alpha2, &noise.alpha3, &noise.alpha4}) *a *= config.motion.recovery_scale;
+      applyMotion(ps, delta, noise, config.dof, rng, step);
+    }
     odom_at_predict = scan_odom;
     if (config.dof == 3) floor.snapToFloor(ps);
     loglik.assign(ps.size(), 0.0);
@@ -272,24 +279,20 @@ struct Localizer::Impl {
     // decide: it drops with map error, people and clutter while the track is fine (real logs,
     // docs/benchmarks.md), and a round whose estimate the scans pin against the mesh (refine
     // accepted) is not lost either.
-    // Averaged over the last relocalize_rounds rounds: one round sees through now and then at the
-    // right place (a door open that the map has shut, a person who stood in the map's scans), and
-    // a wrong place shows it round after round.
-    seen_through.push_back(est.seen_through);
-    while (seen_through.size() > std::max<size_t>(config.relocalize_rounds, 1)) seen_through.pop_front();
-    double mean_seen = 0;
-    for (double v : seen_through) mean_seen += v;
-    mean_seen /= double(seen_through.size());
-    const bool low = seen_through.size() >= config.relocalize_rounds && mean_seen > config.fit.max_seen_through;
+    // A round counts only when the refinement could not pin the estimate either: at the right
+    // place a quarter of the beams may see through for minutes on end where the map holds a door
+    // that is open now (a map made over a long run: freiburg-079), and the scans still fit it.
+    const bool low = est.contradicted && !est.refined;
+    low_rounds = low ? low_rounds + 1 : 0;
     ++rounds_since_reset;
-    if (jumped || (config.relocalize_rounds > 0 && low && rounds_since_reset > 2 * config.relocalize_rounds)) {
+    if (jumped || (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
+                   rounds_since_reset > 2 * config.relocalize_rounds)) {
       drawUniform(kRelocStream + step);
       coarse_left = config.global_coarse_rounds;
       global_rounds = 0;
       w_fast = w_slow;  // no injection into the fresh prior until tracking weighs again
       ++counters.relocalizations;
-      rounds_since_reset = 0;
-      seen_through.clear();
+      rounds_since_reset = low_rounds = 0;
       refreshEstimate(MclStatus::Lost);
     } else if (planted || est.ess < config.resample_ess * double(ps.size()) || (est.contradicted && inject_due > 0.05)) {
       resample();
@@ -434,8 +437,7 @@ struct Localizer::Impl {
   size_t round_sensors = 0, round_lost = 0, round_collapsed = 0;
   double inject_due = 0;
   int64_t round_start = 0, round_stamp = 0;
-  size_t rounds_since_reset = 0;      // sensor resetting (relocalize_rounds)
-  std::deque<double> seen_through;    // of the last relocalize_rounds rounds (mcl.fit)
+  size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
   size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior
   size_t global_rounds = 0;  // coarse rounds since the last uniform prior
   bool ambiguous = false;    // the round's refined modes (global localisation) found several places

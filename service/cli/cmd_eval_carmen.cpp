@@ -34,6 +34,27 @@ struct Args {
 
 // Frames farther than this from the truth after convergence: lost, for the table.
 constexpr double kLostM = 0.5;
+// A test scan leaves the position open along the heading (a corridor) when its alignment's std
+// along it exceeds this (m).
+constexpr double kOpenAlongM = 0.05;
+
+// The errors of a variant split by what the scans pin down: frames whose scan fixes the position
+// in every direction, and frames that leave it open along the heading (corridors).
+nlohmann::json splitByObservability(const TrajectoryMetrics& m, const reloc::CarmenEvalResult& r) {
+  std::map<int64_t, size_t> index;
+  for (size_t k = 0; k < r.truth.size(); ++k) index[r.truth[k].stamp_ns] = k;
+  std::vector<FrameError> pinned, open;
+  for (const FrameError& f : m.frames) {
+    auto it = index.find(f.stamp_ns);
+    if (it == index.end() || it->second >= r.floor_std_along.size()) continue;
+    (r.floor_std_along[it->second] > kOpenAlongM ? open : pinned).push_back(f);
+  }
+  auto part = [](const std::vector<FrameError>& v) {
+    const ErrorSummary s = summarize(v);
+    return nlohmann::json{{"frames", s.frames}, {"ate_rmse_m", reloc::num(s.ate_rmse_m)}, {"p95_pos_err_m", reloc::num(s.p95_pos_err_m)}};
+  };
+  return {{"pinned", part(pinned)}, {"open_along_heading", part(open)}, {"open_threshold_m", kOpenAlongM}};
+}
 
 size_t framesBeyond(const TrajectoryMetrics& m, double d) {
   size_t n = 0;
@@ -41,7 +62,8 @@ size_t framesBeyond(const TrajectoryMetrics& m, double d) {
   return n;
 }
 
-nlohmann::json variantJson(const reloc::CarmenVariant& v, const std::optional<TrajectoryMetrics>& floor) {
+nlohmann::json variantJson(const reloc::CarmenVariant& v, const reloc::CarmenEvalResult& r) {
+  const std::optional<TrajectoryMetrics>& floor = r.floor;
   nlohmann::json j = reloc::resultJson(v.job, v.metrics ? &*v.metrics : nullptr);
   j.erase("input");
   j["stamps"] = v.stamps;
@@ -51,6 +73,7 @@ nlohmann::json variantJson(const reloc::CarmenVariant& v, const std::optional<Tr
   if (!v.unusable.empty()) j["unusable"] = v.unusable;
   if (v.metrics) {
     j["frames_beyond_0_5m_after_convergence"] = framesBeyond(*v.metrics, kLostM);
+    if (floor) j["by_observability"] = splitByObservability(*v.metrics, r);
     if (floor && floor->all.ate_rmse_m > 0) {
       j["ate_over_floor"] = v.metrics->all.ate_rmse_m / floor->all.ate_rmse_m;
       j["p95_over_floor"] = v.metrics->all.p95_pos_err_m / floor->all.p95_pos_err_m;
@@ -174,6 +197,7 @@ void run(Args a) {
       j["floor"] = reloc::summaryJson(r.floor->all);
       j["floor"]["refined"] = r.floor_refined;
       j["floor"]["refused"] = r.floor_refused;
+      j["floor"]["by_observability"] = splitByObservability(*r.floor, r);
       auto pct = [](const std::vector<double>& v) {
         return nlohmann::json{{"p05", percentile(v, 5)}, {"p50", percentile(v, 50)}, {"p95", percentile(v, 95)}, {"max", percentile(v, 100)}};
       };
@@ -182,7 +206,7 @@ void run(Args a) {
       j["floor"]["seconds"] = r.floor_s;
     }
     nlohmann::json vs = nlohmann::json::object();
-    for (const auto& v : r.variants) vs[v.name] = variantJson(v, r.floor);
+    for (const auto& v : r.variants) vs[v.name] = variantJson(v, r);
     j["variants"] = vs;
     nlohmann::json g = nlohmann::json::array();
     for (const auto& t : r.global)

@@ -97,8 +97,11 @@ void runLocalize(const LocalizeArgs& a) {
   EmbreeCaster caster(mesh, eo);
   // The weighing backend's slice height follows the rig (grid2d): complete a recorded one first.
   if (reloc::needsRecordedRig(cfg)) {
-    cfg.rig = reloc::recordedRig(cfg, *reloc::openJobRecording(jo), a.input);
+    std::vector<std::string> notes;
+    cfg.rig = reloc::recordedRig(cfg, *reloc::openJobRecording(jo), a.input, &notes);
     cfg.rig_from_recording = false;
+    for (const auto& n : notes)
+      if (jo.log) jo.log(n);
   }
   const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(mesh, cfg.rig, cfg.mcl, cfg.mcl.threads);
   reloc::JobResult r = reloc::runRecordingJob({cfg, mesh, caster, weigh.get()}, jo);

@@ -27,7 +27,7 @@ namespace polyloc::cli {
 namespace {
 
 struct MapExtrudeArgs {
-  std::string grid, carmen, out, laser = "all", save_grid, plot;
+  std::string grid, carmen, out, laser = "all", save_grid, plot, scans = "all";
   ScanMapperConfig mapper;
   ExtrudeOptions options;
   bool no_merge = false, json = false;
@@ -40,7 +40,8 @@ OccupancyGrid gridFromCarmen(const MapExtrudeArgs& a, nlohmann::json& j, std::ve
     if (a.laser == "all" || a.laser == l) topics.push_back(fmt::format("/{}_laser", l));
   auto reader = openRecording(a.carmen);
   RecordingGridStats st;
-  OccupancyGrid grid = gridFromRecording(*reader, topics, a.mapper, &st);
+  const ScanSelection select = a.scans == "even" ? ScanSelection{2, 0} : a.scans == "odd" ? ScanSelection{2, 1} : ScanSelection{};
+  OccupancyGrid grid = gridFromRecording(*reader, topics, a.mapper, &st, select);
   const ReadStats& rs = reader->stats();
   for (size_t i = 0; i < std::min<size_t>(rs.warnings.size(), 5); ++i)
     fmt::print(stderr, "polyloc map extrude: warning: {}\n", rs.warnings[i]);
@@ -124,6 +125,8 @@ void registerMapExtrude(CLI::App& map) {
   grid->excludes(carmen);
   c->add_option("--resolution", a->mapper.resolution, "--carmen: grid cell size (m)")->capture_default_str()->check(CLI::PositiveNumber);
   c->add_option("--laser", a->laser, "--carmen: which lasers to map")->capture_default_str()->check(CLI::IsMember({"front", "rear", "robot", "all"}));
+  c->add_option("--scans", a->scans, "--carmen: which scans (in file order, per laser): all, or even / odd (the real-log protocol maps the even ones)")
+      ->capture_default_str()->check(CLI::IsMember({"all", "even", "odd"}));
   c->add_option("--max-range", a->mapper.max_range, "--carmen: beams at or beyond this (m) only clear free space")->capture_default_str()->check(CLI::PositiveNumber);
   c->add_option("--save-grid", a->save_grid, "--carmen: also save the built grid as map_server YAML + PGM");
   c->add_option("--out", a->out, "Output map (.obj, .ply, .stl, .gltf, .glb, .dae)")->required();
@@ -137,7 +140,7 @@ void registerMapExtrude(CLI::App& map) {
   c->add_flag("--json", a->json, "Print one JSON object on stdout");
   c->callback([a, c] {
     if (a->grid.empty() == a->carmen.empty()) throw CLI::ValidationError("map extrude", "give exactly one of --grid and --carmen");
-    for (const char* o : {"--resolution", "--laser", "--max-range", "--save-grid"})
+    for (const char* o : {"--resolution", "--laser", "--scans", "--max-range", "--save-grid"})
       if (!a->grid.empty() && c->count(o)) throw CLI::ValidationError(o, "only with --carmen (a --grid brings its own cells)");
     run(*a);
   });

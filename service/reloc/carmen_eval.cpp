@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -53,6 +54,7 @@ void measureFloor(const RealLog& log, const RealLogSplit& split, const Rig& rig,
     const Pose known = Pose::fromXYZRPY(s.pose.x(), s.pose.y(), 0, 0, 0, s.pose.yaw());
     const ScanAlignment a = alignScan(caster, rig, size_t(sensor), s.scan.ranges, known);
     r.floor_refined += a.refined;
+    r.floor_std_along.push_back(a.refined ? a.std_along : std::numeric_limits<double>::infinity());
     const RefineScan scan{size_t(sensor), s.scan.ranges, Pose()};
     const MclConfig& mc = r.config.mcl;
     auto seen = [&](const Pose& p) {

@@ -89,6 +89,9 @@ struct CarmenEvalResult {
   // the aligned pose, and at poses displaced from it by 0.5 m and 2 m (random direction, yaw
   // +-10 deg): what mcl.fit.max_seen_through must separate.
   std::vector<double> seen_through_aligned, seen_through_0_5m, seen_through_2m;
+  // Per test scan: the aligned position's std along the scanner's heading (m; inf when the
+  // refinement was refused). Large in corridors: there the scan leaves the position open.
+  std::vector<double> floor_std_along;
   std::vector<CarmenVariant> variants;
   std::vector<CarmenGlobalTrial> global;
   double map_s = 0, floor_s = 0, wall_s = 0;

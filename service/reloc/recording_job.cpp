@@ -10,6 +10,7 @@
 #include <fmt/core.h>
 
 #include <chrono>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -18,15 +19,6 @@ namespace polyloc::reloc {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// The stamp a consumer uses: the header's, else the log time.
-int64_t headerStamp(const RecordedMessage& m) {
-  int64_t t = 0;
-  std::visit([&](const auto& x) {
-    if constexpr (requires { x.header.stamp; }) t = msg::toNs(x.header.stamp);
-  }, m.message);
-  return t ? t : m.log_time_ns;
-}
 
 }  // namespace
 
@@ -149,6 +141,9 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     if (start) loc.initPose(start->pose, cov, res.init_ns);
     else loc.initGlobal(res.init_ns);
   };
+  // A ground-truth start begins at the truth's first stamp: odometry before it is history only.
+  const int64_t start_after = start && res.init_mode == "ground_truth" ? start->stamp_ns : std::numeric_limits<int64_t>::min();
+  uint64_t before_start = 0;
   auto timed = [&](auto&& f) {
     const auto t0 = Clock::now();
     f();
@@ -162,21 +157,24 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     if (m.log_time_ns < o.read_from_ns) continue;  // before this segment's warm-up
     if (m.log_time_ns >= o.keep_to_ns) break;      // the next segment's span
     ++read;
-    stamps.add(m.topic, headerStamp(m), read - 1);
     if (o.progress && read % 64 == 0) o.progress(std::clamp(double(m.log_time_ns - from_ns) / progress_ns, 0.0, 1.0), loc.counters().updates);
     if (const auto* p = std::get_if<msg::PoseStamped>(&m.message)) {
       if (m.topic != "/ground_truth" || !res.truth_from_stream) continue;
+      stamps.add(m.topic, messageStamp(m), read - 1);
       const int64_t t = msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns;
       res.truth.push_back({t, fromMsgPose(p->pose)});
       continue;
     }
     if (const auto* od = std::get_if<msg::Odometry>(&m.message)) {
+      stamps.add(m.topic, messageStamp(m), read - 1);
       const int64_t t = msg::toNs(od->header.stamp) ? msg::toNs(od->header.stamp) : m.log_time_ns;
-      if (!initialised) initialise(t);
+      if (!initialised && t >= start_after) initialise(t);
       timed([&] { loc.addOdometry(t, fromMsgPose(od->pose.pose)); });
       continue;
     }
     const TopicRouter::Result r = router.route(m.topic, m.log_time_ns, m.message, ranges);
+    // Only the stamps the filter uses are checked: truth topics for people may share a stamp.
+    if (r.kind != TopicRouter::Kind::Ignored) stamps.add(m.topic, messageStamp(m), read - 1);
     switch (r.kind) {
       case TopicRouter::Kind::Ignored: continue;
       case TopicRouter::Kind::Disabled: ++disabled; continue;
@@ -188,7 +186,13 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       case TopicRouter::Kind::BadImage: ++bad_image, warn("image " + m.topic, r.why + ": frame rejected"); continue;
       case TopicRouter::Kind::Frame: break;
     }
-    if (!initialised) initialise(r.stamp_ns);
+    if (!initialised) {
+      if (r.stamp_ns < start_after) {  // before the ground truth begins: where the robot was is unknown
+        ++before_start;
+        continue;
+      }
+      initialise(r.stamp_ns);
+    }
     bool updated = false;
     timed([&] { updated = loc.addScan(static_cast<size_t>(r.sensor), r.stamp_ns, ranges); });
     if (!updated) continue;
@@ -231,6 +235,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"scans_bad_image", bad_image},
                   {"scans_unknown_sensor", unknown_sensor},
                   {"scans_disabled", disabled},
+                  {"scans_before_start", before_start},
                   {"resamples", c.resamples},
                   {"injected", c.injected},
                   {"refinements", c.refinements},

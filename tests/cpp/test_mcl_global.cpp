@@ -25,6 +25,7 @@ TEST(MclGlobal, ParticlesOnlyOnFreeFloor) {
   const Rig rig = scannerRig();
   MclConfig cfg = globalConfig();
   cfg.global_particles = 5000;
+  cfg.clearance = 0.25;
   Localizer loc(caster, mesh, rig, cfg);
   loc.initGlobal(0);
   const ParticleSet& ps = loc.particles();

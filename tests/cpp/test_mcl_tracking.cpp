@@ -93,11 +93,14 @@ TEST(MclTracking, SymmetricRoomKeepsBothModes) {
   const Pose mirror = Pose::planar(0, 0, M_PI) * truth;
   const ParticleSet& ps = loc.particles();
   double near_truth = 0, near_mirror = 0;
+  size_t in_modes = 0;  // particles in either mode
   for (size_t i = 0; i < ps.size(); ++i) {
     const Pose p = ps.pose(i);
     const double w = std::exp(ps.logw[i]);
-    if (posErr(p, truth) < 0.3 && yawErrDeg(p, truth) < 15) near_truth += w;
-    if (posErr(p, mirror) < 0.3 && yawErrDeg(p, mirror) < 15) near_mirror += w;
+    const bool t = posErr(p, truth) < 0.3 && yawErrDeg(p, truth) < 15, m = posErr(p, mirror) < 0.3 && yawErrDeg(p, mirror) < 15;
+    if (t) near_truth += w;
+    if (m) near_mirror += w;
+    in_modes += t || m;
   }
   std::printf("[mcl] symmetric: weight near truth %.3f, near mirror %.3f, n %zu, status %s\n", near_truth,
               near_mirror, ps.size(), toString(loc.estimate().status));
@@ -105,9 +108,11 @@ TEST(MclTracking, SymmetricRoomKeepsBothModes) {
   // them: the robot turns on the spot).
   EXPECT_GT(near_truth, 0.05);
   EXPECT_GT(near_mirror, 0.05);
-  EXPECT_GT(near_truth + near_mirror, 0.9);
-  const MclStatus st = loc.estimate().status;
-  EXPECT_TRUE(st == MclStatus::Uncertain || st == MclStatus::Tracking) << toString(st);
+  // The global phase keeps adding hypotheses.fresh uniform candidates (10,000) each round
+  // while the place is ambiguous; all the rest sit in the two modes, and none elsewhere.
+  EXPECT_GE(in_modes + cfg.hypotheses.fresh, ps.size() * 98 / 100) << in_modes;
+  // Two places explain the scans equally: the filter must not commit to one.
+  EXPECT_EQ(loc.estimate().status, MclStatus::Uncertain) << toString(loc.estimate().status);
 }
 
 // Scans stamped between two odometry messages, delivered after the later one (as a recording

@@ -17,7 +17,7 @@ void bindMclConfig(pb::module_& m) {
     using T = MotionNoise;
     auto c = pb::class_<T>(m, "MotionNoise", "motion: odometry noise (Thrun alpha1..4), 6-DoF diffusion").def(pb::init<>());
     c POLYLOC_RW(alpha1) POLYLOC_RW(alpha2) POLYLOC_RW(alpha3) POLYLOC_RW(alpha4) POLYLOC_RW(z_per_m)
-        POLYLOC_RW(roll_pitch_per_m) POLYLOC_RW(omni) POLYLOC_RW(outlier_ratio) POLYLOC_RW(outlier_scale);
+        POLYLOC_RW(roll_pitch_per_m) POLYLOC_RW(omni) POLYLOC_RW(outlier_ratio) POLYLOC_RW(outlier_scale) POLYLOC_RW(recovery_scale);
   }
   {
     using T = BeamModel;

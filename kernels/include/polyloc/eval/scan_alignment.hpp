@@ -37,6 +37,9 @@ struct ScanAlignment {
   bool refined = false; // the refinement was accepted
   std::string refine_reason;  // why not ("" when accepted)
   double rms_m = 0;     // RMS point-to-plane residual of the refinement's inliers
+  // Position std (m) along the scanner's heading and across it, from the refinement's covariance:
+  // in a corridor the scan leaves the position along it open (large along, small across).
+  double std_along = 0, std_across = 0;
   size_t inliers = 0, beams = 0;
 };
 

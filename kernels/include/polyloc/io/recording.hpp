@@ -7,6 +7,7 @@
 #include <polyloc/io/error.hpp>
 #include <polyloc/io/messages.hpp>
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,6 +29,18 @@ struct TopicInfo {
   double rateHz() const {
     return count > 1 && last_ns > first_ns ? (count - 1) * 1e9 / double(last_ns - first_ns) : 0.0;
   }
+};
+
+// Topics of a stream of messages, in order of first appearance: for readers that have no index
+// and count their topics in a pass of their own.
+class TopicTally {
+ public:
+  void add(const RecordedMessage& m);
+  const std::vector<TopicInfo>& topics() const { return topics_; }
+
+ private:
+  std::vector<TopicInfo> topics_;
+  std::map<std::string, size_t> index_;
 };
 
 struct ReadStats {

@@ -8,12 +8,23 @@
 //   for (auto& w : check.warnings()) ...
 #pragma once
 
+#include <polyloc/io/recording.hpp>
+
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace polyloc {
+
+// The stamp consumers use: the message's header stamp, else (no header, or a zero stamp) its
+// log time.
+int64_t messageStamp(const RecordedMessage& m);
+
+// Whether the message's topic is a stream whose stamps must increase: scans, clouds, images,
+// odometry, poses. Track arrays (one per scanner frame), camera infos and static transforms may
+// repeat a stamp.
+bool isStampedStream(const RecordedMessage& m);
 
 class StampCheck {
  public:

@@ -29,9 +29,17 @@ struct RecordingGridStats {
   }
 };
 
+// Which of the scans with a pose are used, by their number k (0, 1, 2, ... in file order, per
+// topic): k % every == offset. {2, 0}: the even scans (the map of the real-log protocol, whose
+// odd scans are localised: docs/localization.md "Real logs").
+struct ScanSelection {
+  size_t every = 1, offset = 0;
+};
+
 // Reads the reader to its end. Other topics and message types are ignored. The grid is empty
-// (0 x 0) when no scan was used.
+// (0 x 0) when no scan was used. Scans left out by `select` are counted as "not_selected".
 OccupancyGrid gridFromRecording(RecordingReader& reader, const std::vector<std::string>& scan_topics,
-                                const ScanMapperConfig& config = {}, RecordingGridStats* stats = nullptr);
+                                const ScanMapperConfig& config = {}, RecordingGridStats* stats = nullptr,
+                                const ScanSelection& select = {});
 
 }  // namespace polyloc
