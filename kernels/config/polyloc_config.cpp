@@ -33,6 +33,10 @@ MapConfig readMapConfig(const ConfigValue& v, const ConfigMap& context) {
   return mc;
 }
 
+double particleClearance(const RobotSpec& robot, const MclConfig& mcl) {
+  return std::max(0.0, robot.inscribedRadius() - mcl.clearance_margin);
+}
+
 PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load) {
   ConfigMap m = ConfigMap::load(path);
   PolylocConfig c;
@@ -49,7 +53,7 @@ PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load) {
   else c.rig = readRig(m.value("rig"), m);
   const Rig* rig = recorded ? nullptr : &c.rig;  // sensor names are checked when the rig is known
   if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"), rig);
-  c.mcl.clearance = std::max(0.0, c.robot.inscribedRadius() - c.mcl.clearance_margin);
+  c.mcl.clearance = particleClearance(c.robot, c.mcl);
   c.vrs.robot_height = c.robot.height;
   if (m.has("vrs")) c.vrs = parseVrsConfig(m.map("vrs"), c.robot.height);
   if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), rig);

@@ -4,6 +4,7 @@
 // terminal; a summary (or --json) on stdout; --plot draws the starts on the map, green when the
 // trial succeeded.
 #include "cli/commands.hpp"
+#include "cli/progress_bar.hpp"
 #include "viz/topview.hpp"
 
 #include <polyloc/eval/localization_trials.hpp>
@@ -40,8 +41,7 @@ void runEval(const EvalArgs& a, bool kidnap) {
   const char* what = kidnap ? "kidnap" : "global";
   auto progress = [&](size_t done, size_t total) {
     if (!tty) return;
-    const int width = 40, bar = int(width * done / std::max<size_t>(total, 1));
-    fmt::print(stderr, "\reval {} [{}{}] {}/{} trials", what, std::string(bar, '='), std::string(width - bar, ' '), done, total);
+    fmt::print(stderr, "\reval {} {} {}/{} trials", what, barText(double(done) / double(std::max<size_t>(total, 1))), done, total);
     std::fflush(stderr);
   };
   const std::vector<TrialResult> r =

@@ -4,6 +4,7 @@
 // test frames. A summary (or --json) on stdout, progress on stderr when it is a terminal, --plot
 // draws the map, the paths and the global starts.
 #include "cli/commands.hpp"
+#include "cli/progress_bar.hpp"
 #include "reloc/carmen_eval.hpp"
 #include "reloc/report.hpp"
 #include "viz/topview.hpp"
@@ -170,8 +171,7 @@ void run(Args a) {
       const auto now = std::chrono::steady_clock::now();
       if (f < 1.0 && now - last < std::chrono::milliseconds(100)) return;
       last = now;
-      const int width = 30, bar = int(f * width);
-      fmt::print(stderr, "\reval carmen {:>6} [{}{}] {:3.0f}%", stage, std::string(bar, '='), std::string(width - bar, ' '), 100 * f);
+      fmt::print(stderr, "\reval carmen {:>6} {} {:3.0f}%", stage, barText(f, 30), 100 * f);
       std::fflush(stderr);
     };
   a.eval.log_line = [tty](const std::string& s) { fmt::print(stderr, "{}polyloc eval carmen: {}\n", tty ? "\r\033[K" : "", s); };

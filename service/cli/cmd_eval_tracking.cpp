@@ -3,6 +3,7 @@
 // scanners, scored with CLEAR-MOT against the people walking in it. A summary (or --json) on
 // stdout, progress on stderr when it is a terminal; --plot draws tracks against the truth.
 #include "cli/commands.hpp"
+#include "cli/progress_bar.hpp"
 #include "viz/tracking_plot.hpp"
 
 #include <polyloc/eval/tracking_quality.hpp>
@@ -65,8 +66,7 @@ void run(const Args& a) {
   const bool tty = !a.json && isatty(fileno(stderr));
   auto progress = [&](double f) {
     if (!tty) return;
-    const int width = 40, bar = int(width * f);
-    fmt::print(stderr, "\reval tracking [{}{}] {:3.0f}%", std::string(bar, '='), std::string(width - bar, ' '), 100 * f);
+    fmt::print(stderr, "\reval tracking {} {:3.0f}%", barText(f), 100 * f);
     std::fflush(stderr);
   };
   TrackingConfig config = s.config.tracking;

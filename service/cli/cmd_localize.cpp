@@ -3,6 +3,7 @@
 // recording's /ground_truth or --ground-truth) it reports the accuracy (kernels/eval).
 // Progress on stderr when it is a terminal; a summary (or --json) on stdout.
 #include "cli/commands.hpp"
+#include "cli/progress_bar.hpp"
 #include "cli/parse_number.hpp"
 #include "reloc/recorded_rig.hpp"
 #include "reloc/recording_job.hpp"
@@ -45,9 +46,7 @@ std::vector<double> numbers(const std::string& s, const char* option) {
 }
 
 void progressBar(double f, uint64_t updates) {
-  const int width = 40, bar = static_cast<int>(f * width);
-  fmt::print(stderr, "\rlocalize [{}{}] {:3.0f}%, {} updates", std::string(bar, '='), std::string(width - bar, ' '),
-             100 * f, updates);
+  fmt::print(stderr, "\rlocalize {} {:3.0f}%, {} updates", barText(f), 100 * f, updates);
   std::fflush(stderr);
 }
 
@@ -96,13 +95,7 @@ void runLocalize(const LocalizeArgs& a) {
   eo.threads = cfg.mcl.threads;
   EmbreeCaster caster(mesh, eo);
   // The weighing backend's slice height follows the rig (grid2d): complete a recorded one first.
-  if (reloc::needsRecordedRig(cfg)) {
-    std::vector<std::string> notes;
-    cfg.rig = reloc::recordedRig(cfg, *reloc::openJobRecording(jo), a.input, &notes);
-    cfg.rig_from_recording = false;
-    for (const auto& n : notes)
-      if (jo.log) jo.log(n);
-  }
+  if (reloc::needsRecordedRig(cfg)) reloc::completeRecordedRig(cfg, *reloc::openJobRecording(jo), a.input, jo.log);
   const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(mesh, cfg.rig, cfg.mcl, cfg.mcl.threads);
   reloc::JobResult r = reloc::runRecordingJob({cfg, mesh, caster, weigh.get()}, jo);
   if (tty) fmt::print(stderr, "\n");

@@ -2,6 +2,7 @@
 // bag directory (anything else); optionally a TUM ground-truth file and a PNG of the run.
 // Progress on stderr when it is a terminal; a summary (or --json) on stdout.
 #include "cli/commands.hpp"
+#include "cli/progress_bar.hpp"
 #include "viz/sim_plot.hpp"
 
 #include <polyloc/io/recording.hpp>
@@ -58,9 +59,7 @@ uint64_t pathBytes(const std::string& path) {
 }
 
 void progressBar(double f, double sim_s) {
-  const int width = 40, done = static_cast<int>(f * width);
-  fmt::print(stderr, "\rsimulate [{}{}] {:3.0f}% {:.1f} s", std::string(done, '='), std::string(width - done, ' '),
-             100 * f, f * sim_s);
+  fmt::print(stderr, "\rsimulate {} {:3.0f}% {:.1f} s", barText(f), 100 * f, f * sim_s);
   std::fflush(stderr);
 }
 

@@ -49,8 +49,7 @@ void measureFloor(const RealLog& log, const RealLogSplit& split, const Rig& rig,
   std::vector<EstimatedPose> aligned;
   const CounterRng rng(o.seed);
   for (size_t i = 0; i < split.test_scans.size(); ++i) {
-    const size_t k = i;
-    const LoggedScan& s = log.scans[split.test_scans[k]];
+    const LoggedScan& s = log.scans[split.test_scans[i]];
     const Pose known = Pose::fromXYZRPY(s.pose.x(), s.pose.y(), 0, 0, 0, s.pose.yaw());
     const ScanAlignment a = alignScan(caster, rig, size_t(sensor), s.scan.ranges, known);
     r.floor_refined += a.refined;
@@ -69,14 +68,15 @@ void measureFloor(const RealLog& log, const RealLogSplit& split, const Rig& rig,
     r.seen_through_0_5m.push_back(seen(displaced(0.5, 0)));
     r.seen_through_2m.push_back(seen(displaced(2.0, 1)));
     if (!a.refined) ++r.floor_refused[a.refine_reason];
-    aligned.push_back({r.truth[k].stamp_ns, a.pose, MclStatus::Tracking});
-    if (o.progress && k % 8 == 0) o.progress("floor", double(k) / double(split.test_scans.size()));
+    aligned.push_back({r.truth[i].stamp_ns, a.pose, MclStatus::Tracking});
+    if (o.progress && i % 8 == 0) o.progress("floor", double(i) / double(split.test_scans.size()));
   }
   r.floor = evaluateTrajectory(aligned, GroundTruth(r.truth));
 }
 
-JobOptions jobOptions(const TestRun& run, std::shared_ptr<const std::vector<RecordedMessage>> messages,
-                      const CarmenEvalOptions& o) {
+using Messages = std::shared_ptr<const std::vector<RecordedMessage>>;
+
+JobOptions jobOptions(const TestRun& run, Messages messages, const CarmenEvalOptions& o) {
   JobOptions jo;
   jo.input = fmt::format("{} ({} run)", o.log, run.name);
   jo.open = [messages] { return readMemory(messages, "carmen"); };
@@ -85,14 +85,14 @@ JobOptions jobOptions(const TestRun& run, std::shared_ptr<const std::vector<Reco
   return jo;
 }
 
-CarmenVariant runVariant(const TestRun& run, const JobContext& ctx, const CarmenEvalOptions& o) {
+CarmenVariant runVariant(const TestRun& run, Messages messages, const JobContext& ctx, const CarmenEvalOptions& o) {
   CarmenVariant v;
   v.name = run.name;
   v.stamps = run.stamps;
   v.odometry = run.odometry;
   v.odometry_dropped = run.odometry_dropped;
   v.unusable = run.unusable;
-  v.run = std::make_shared<const std::vector<RecordedMessage>>(run.messages);
+  v.run = std::move(messages);
   if (!v.unusable.empty()) return v;
   JobOptions jo = jobOptions(run, v.run, o);
   if (o.progress) jo.progress = [&](double f, uint64_t) { o.progress(run.name, f); };
@@ -105,14 +105,14 @@ CarmenVariant runVariant(const TestRun& run, const JobContext& ctx, const Carmen
 }
 
 // Stratified random starts over the test scans that still have `updates` scans after them.
-std::vector<CarmenGlobalTrial> runGlobal(const TestRun& run, const JobContext& ctx, const CarmenEvalOptions& o) {
+std::vector<CarmenGlobalTrial> runGlobal(const TestRun& run, const Messages& messages, const JobContext& ctx,
+                                         const CarmenEvalOptions& o) {
   std::vector<CarmenGlobalTrial> trials;
   const size_t n = run.truth.size(), U = o.global_updates;
   if (n <= U || o.global_trials == 0) return trials;
   const CounterRng rng(o.seed);
   const GroundTruth truth(run.truth);
   const double yaw_tol = deg2rad(o.global_yaw_tol_deg);
-  const auto messages = std::make_shared<const std::vector<RecordedMessage>>(run.messages);
   for (size_t i = 0; i < o.global_trials; ++i) {
     const double u = (double(i) + rng.uniform(kGlobalStartStream, i)) / double(o.global_trials);
     CarmenGlobalTrial t;
@@ -151,7 +151,7 @@ PolylocConfig defaultCarmenConfig() {
   c.file = "(built-in: robot.radius 0.25, rig recorded)";
   c.robot.radius = 0.25;
   c.rig_from_recording = true;
-  c.mcl.clearance = std::max(0.0, c.robot.inscribedRadius() - c.mcl.clearance_margin);
+  c.mcl.clearance = particleClearance(c.robot, c.mcl);
   return c;
 }
 
@@ -179,26 +179,31 @@ CarmenEvalResult runCarmenEval(const CarmenEvalOptions& o) {
   drift.seed = o.seed;
   const TestRun drift_run = driftRun(log, split.test_scans, drift, o.restamp_hz);
   r.truth = drift_run.truth;
+  const Messages drift_messages = std::make_shared<const std::vector<RecordedMessage>>(drift_run.messages);
 
   EmbreeOptions eo;
   eo.threads = r.config.mcl.threads;
   const EmbreeCaster caster(r.mesh, eo);
-  // The rig as the jobs will make it from the run (the floor aligns with the same geometry).
-  const Rig rig = needsRecordedRig(r.config)
-                      ? recordedRig(r.config, *readMemory(std::make_shared<const std::vector<RecordedMessage>>(drift_run.messages)), o.log)
-                      : r.config.rig;
+  // The rig made once from the run, for the floor and every job (the own run has the same scans).
+  completeRecordedRig(r.config, *readMemory(drift_messages), o.log, o.log_line);
   if (o.floor) {
     t0 = Clock::now();
-    measureFloor(log, split, rig, caster, o, r);
+    measureFloor(log, split, r.config.rig, caster, o, r);
     r.floor_s = since(t0);
   }
   const JobContext ctx{r.config, r.mesh, caster, nullptr};
   for (const std::string& name : o.variants) {
-    if (name == "drift") r.variants.push_back(runVariant(drift_run, ctx, o));
-    else if (name == "own") r.variants.push_back(runVariant(ownOdometryRun(log, split.test_scans, o.restamp_hz), ctx, o));
-    else throw std::runtime_error(fmt::format("unknown variant '{}' (drift, own)", name));
+    if (name == "drift") {
+      r.variants.push_back(runVariant(drift_run, drift_messages, ctx, o));
+    } else if (name == "own") {
+      TestRun own = ownOdometryRun(log, split.test_scans, o.restamp_hz);
+      auto messages = std::make_shared<const std::vector<RecordedMessage>>(std::move(own.messages));
+      r.variants.push_back(runVariant(own, std::move(messages), ctx, o));
+    } else {
+      throw std::runtime_error(fmt::format("unknown variant '{}' (drift, own)", name));
+    }
   }
-  r.global = runGlobal(drift_run, ctx, o);
+  r.global = runGlobal(drift_run, drift_messages, ctx, o);
   r.wall_s = since(t_start);
   return r;
 }

@@ -83,4 +83,14 @@ Rig recordedRig(const PolylocConfig& cfg, RecordingReader& reader, const std::st
   return rig;
 }
 
+void completeRecordedRig(PolylocConfig& config, RecordingReader& reader, const std::string& name,
+                         const std::function<void(const std::string&)>& log) {
+  if (!needsRecordedRig(config)) return;
+  std::vector<std::string> notes;
+  config.rig = recordedRig(config, reader, name, &notes);
+  config.rig_from_recording = false;
+  if (log)
+    for (const auto& n : notes) log(n);
+}
+
 }  // namespace polyloc::reloc

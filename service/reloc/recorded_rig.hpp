@@ -9,6 +9,7 @@
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/io/recording.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,12 @@ bool needsRecordedRig(const PolylocConfig& config);
 // finds no scan (or no usable geometry) on its topic, or the recording has no LaserScan at all.
 Rig recordedRig(const PolylocConfig& config, RecordingReader& reader, const std::string& name,
                 std::vector<std::string>* notes = nullptr);
+
+// The config with its rig completed from the recording (recordedRig), so that jobs and the
+// weighing backend see the finished rig; what was made goes to `log`. A config that needs no
+// recording is left as it is.
+void completeRecordedRig(PolylocConfig& config, RecordingReader& reader, const std::string& name,
+                         const std::function<void(const std::string&)>& log);
 
 // The rig sensor name for a scan topic: "/front_laser" -> "front_laser", "/scan/lms" -> "lms",
 // "/robot/scan" -> "robot_scan" (the TopicRouter finds it by the same rule).

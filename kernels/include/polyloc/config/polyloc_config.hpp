@@ -51,6 +51,10 @@ struct ConfigLoad {
   bool recorded_rig = false;
 };
 
+// The clearance a particle's body needs: the robot's inscribed radius less mcl.clearance_margin
+// (one robot size rules; loadConfig sets mcl.clearance to this).
+double particleClearance(const RobotSpec& robot, const MclConfig& mcl);
+
 // Throws ConfigError naming file, line and key (also when the map file does not exist, and for a
 // missing map or a recorded rig that `load` does not allow).
 PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load = {});
