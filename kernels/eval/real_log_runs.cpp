@@ -1,5 +1,6 @@
 #include <polyloc/eval/real_log_runs.hpp>
 #include <polyloc/geometry/random.hpp>
+#include <polyloc/io/restamp.hpp>
 #include <polyloc/sim/simulator.hpp>  // toMsgPose
 
 #include <fmt/core.h>
@@ -50,8 +51,6 @@ std::vector<StampedPose> chainOdometry(const std::vector<StampedPose>& odom, con
   return out;
 }
 
-int64_t orderStamp(uint64_t order, double hz) { return 1'000'000'000 + int64_t(std::llround(double(order) * 1e9 / hz)); }
-
 }  // namespace
 
 Pose odometryAt(const std::vector<StampedPose>& odom, int64_t t) {
@@ -81,7 +80,7 @@ TestRun driftRun(const RealLog& log, const std::vector<size_t>& test, const Odom
   for (size_t i : test) stamps.push_back(log.scans[i].stamp_ns);
   if (!increasing(stamps)) {
     run.stamps = fmt::format("restamped by order at {:g} Hz: the test scans' stamps do not increase", restamp_hz);
-    for (size_t k = 0; k < test.size(); ++k) stamps[k] = orderStamp(log.scans[test[k]].order, restamp_hz);
+    for (size_t k = 0; k < test.size(); ++k) stamps[k] = restampedNs(log.scans[test[k]].order, restamp_hz);
   }
   const CounterRng rng(d.seed);
   Pose odom = Pose::planar(0, 0, 0);
@@ -137,7 +136,7 @@ TestRun ownOdometryRun(const RealLog& log, const std::vector<size_t>& test, doub
   if (!recorded)
     run.stamps = fmt::format("restamped by order at {:g} Hz: the {} stamps do not increase", restamp_hz,
                              increasing(scan_t) ? "odometry" : "scans'");
-  auto stamp = [&](int64_t t, uint64_t order) { return recorded ? t : orderStamp(order, restamp_hz); };
+  auto stamp = [&](int64_t t, uint64_t order) { return recorded ? t : restampedNs(order, restamp_hz); };
   std::vector<StampedPose> odom_path;
   size_t oi = 0;
   for (size_t i : test) {

@@ -31,7 +31,7 @@ class RestampedReader final : public RecordingReader {
   std::string format() const override { return inner_->format(); }
 
  private:
-  int64_t stampOf(uint64_t i) const { return kRestampStartNs + int64_t(std::llround(double(i) * 1e9 / hz_)); }
+  int64_t stampOf(uint64_t i) const { return restampedNs(i, hz_); }
   std::unique_ptr<RecordingReader> inner_;
   double hz_;
   uint64_t index_ = 0;

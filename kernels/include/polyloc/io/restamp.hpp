@@ -8,11 +8,18 @@
 
 #include <polyloc/io/recording.hpp>
 
+#include <cmath>
+#include <cstdint>
 #include <memory>
 
 namespace polyloc {
 
 inline constexpr int64_t kRestampStartNs = 1'000'000'000;  // the first message's stamp: 1 s
+
+// The stamp of the message at `index` in the recording, restamped at rate_hz.
+inline int64_t restampedNs(uint64_t index, double rate_hz) {
+  return kRestampStartNs + int64_t(std::llround(double(index) * 1e9 / rate_hz));
+}
 
 // Throws std::invalid_argument for a rate that is not finite and positive (or above 1 GHz).
 std::unique_ptr<RecordingReader> restampByOrder(std::unique_ptr<RecordingReader> reader, double rate_hz);
