@@ -103,4 +103,17 @@ TrajectoryMetrics evaluateTrajectory(std::vector<EstimatedPose> estimates, const
   return m;
 }
 
+HeadingSplit splitByHeading(std::span<const FrameError> frames) {
+  HeadingSplit h;
+  if (frames.empty()) return h;
+  for (const FrameError& f : frames) {
+    const double c = std::cos(f.truth.yaw()), s = std::sin(f.truth.yaw());
+    h.along_rmse_m += std::pow(c * f.dx + s * f.dy, 2);
+    h.across_rmse_m += std::pow(-s * f.dx + c * f.dy, 2);
+  }
+  h.along_rmse_m = std::sqrt(h.along_rmse_m / double(frames.size()));
+  h.across_rmse_m = std::sqrt(h.across_rmse_m / double(frames.size()));
+  return h;
+}
+
 }  // namespace polyloc

@@ -161,6 +161,17 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     gh.max_correction_yaw = h.getAngle("max_correction_yaw", gh.max_correction_yaw);
     gh.beams_per_scan = h.getCount("beams_per_scan", gh.beams_per_scan, 1, 100'000);
     gh.fresh = h.getCount("fresh", gh.fresh, 0, 10'000'000);
+    if (h.has("screen")) {
+      ConfigMap sm = h.map("screen");
+      ScanScreenConfig& sc = gh.screen;
+      sc.keep = sm.getCount("keep", sc.keep, 0, 10'000);
+      sc.positions = sm.getCount("positions", sc.positions, 1, 10'000'000);
+      sc.headings = sm.getCount("headings", sc.headings, 1, 3600);
+      sc.beams_per_scan = sm.getCount("beams_per_scan", sc.beams_per_scan, 1, 100'000);
+      sc.truncate = sm.getDouble("truncate", sc.truncate, 1e-3, 100);
+      sc.resolution = sm.getDouble("resolution", sc.resolution, 0.01, 10);
+      sm.finish();
+    }
     h.finish();
   }
   if (m.has("beam")) {

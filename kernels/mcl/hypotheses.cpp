@@ -37,15 +37,19 @@ std::vector<size_t> distinctModes(const ParticleSet& s, size_t k, double separat
 }
 
 std::vector<Hypothesis> refineModes(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans,
-                                    const ParticleSet& s, const GlobalHypotheses& config, const RefineConfig& base) {
+                                    const ParticleSet& s, const GlobalHypotheses& config, const RefineConfig& base,
+                                    std::span<const Pose> extra) {
   RefineConfig rc = base;
   rc.beams_per_scan = config.beams_per_scan;
   rc.max_correction = config.max_correction;
   rc.max_correction_yaw = config.max_correction_yaw;
   rc.min_inlier_ratio = config.min_inlier_ratio;
   std::vector<Hypothesis> out;
-  for (size_t i : distinctModes(s, config.count, config.separation, config.separation_yaw)) {
-    const RefineResult r = refinePose(caster, rig, scans, s.pose(i), 3, rc);
+  std::vector<Pose> starts;
+  for (size_t i : distinctModes(s, config.count, config.separation, config.separation_yaw)) starts.push_back(s.pose(i));
+  starts.insert(starts.end(), extra.begin(), extra.end());
+  for (const Pose& start : starts) {
+    const RefineResult r = refinePose(caster, rig, scans, start, 3, rc);
     if (!r.accepted || r.beams == 0) continue;
     out.push_back(Hypothesis{r.pose, double(r.correspondences) / double(r.beams), r.rms});
   }
@@ -82,6 +86,31 @@ size_t plantHypotheses(ParticleSet& s, std::span<const Hypothesis> hyps, const G
     s.logw[i] = heaviest;
   }
   return n;
+}
+
+void trackPlaces(std::vector<TrackedPlace>& places, std::span<const Hypothesis> hyps, const Pose& moved) {
+  for (TrackedPlace& t : places) t.pose = t.pose * moved;
+  std::vector<double> gain(places.size(), 0.0);
+  for (const Hypothesis& h : hyps) {
+    size_t k = 0;
+    while (k < places.size() && !((places[k].pose.translation() - h.pose.translation()).head<2>().norm() <= 1.0 &&
+                                  std::abs(angleDiff(places[k].pose.yaw(), h.pose.yaw())) <= 0.5))
+      ++k;
+    if (k == places.size()) places.push_back({h.pose, 0.0, 0}), gain.push_back(0.0);
+    if (h.inlier_ratio > gain[k]) gain[k] = h.inlier_ratio, places[k].pose = h.pose;
+  }
+  for (size_t k = 0; k < places.size(); ++k) {
+    places[k].score += gain[k];
+    places[k].missed = gain[k] > 0 ? 0 : places[k].missed + 1;
+  }
+  std::erase_if(places, [](const TrackedPlace& t) { return t.missed >= 2; });
+}
+
+const TrackedPlace* bestPlace(std::span<const TrackedPlace> places) {
+  const TrackedPlace* best = nullptr;
+  for (const TrackedPlace& t : places)
+    if (!best || t.score > best->score) best = &t;
+  return best;
 }
 
 }  // namespace polyloc

@@ -11,6 +11,7 @@
 #include <polyloc/mcl/motion_model.hpp>
 #include <polyloc/mcl/refine.hpp>
 #include <polyloc/mcl/resample.hpp>
+#include <polyloc/mcl/scan_screen.hpp>
 #include <polyloc/mcl/weighing.hpp>
 
 #include <tbb/task_arena.h>
@@ -31,6 +32,7 @@ constexpr uint64_t kInitStream = 0x494E49ULL << 40;
 constexpr uint64_t kRelocStream = 0x524C43ULL << 40;
 constexpr uint64_t kPlantStream = 0x504C54ULL << 40;
 constexpr uint64_t kFreshStream = 0x465253ULL << 40;
+constexpr uint64_t kScreenStream = 0x534352ULL << 40;
 constexpr int64_t kOdometryGapNs = 1'000'000'000;
 constexpr int64_t kOdomHistoryNs = 2'000'000'000;
 constexpr int64_t kExtrapolateNs = 100'000'000;
@@ -77,6 +79,12 @@ struct Localizer::Impl {
     round_frames.resize(rig.size());
     last_scan.assign(rig.size(), std::numeric_limits<int64_t>::min());
     if (config.threads > 0) arena.emplace(config.threads);
+    // Global localisation screens candidates with the level scanners' beams (scan_screen.hpp).
+    bool level = false;
+    for (size_t k = 0; k < rig.size(); ++k) level = level || (weighed[k] && rig.isLevelScanner(k));
+    if (level && !m.triangles.empty() && config.hypotheses.count > 0 && config.hypotheses.screen.keep > 0 &&
+        config.global_particles > 0)
+      screen = std::make_unique<ScanScreen>(m, weighingSliceHeight(rig, config), config.hypotheses.screen);
   }
 
   template <class F>
@@ -151,6 +159,7 @@ struct Localizer::Impl {
 
   // Global particles uniform over the free floor, equal weights.
   void drawUniform(uint64_t stream) {
+    tracked.clear();
     const std::vector<Pose> poses = floor.sampleFree(config.global_particles, rng, stream);
     resizeParticles(ps, poses.size());
     for (size_t i = 0; i < poses.size(); ++i) setParticle(ps, i, poses[i]), ps.logw[i] = -std::log(double(poses.size()));
@@ -249,6 +258,7 @@ struct Localizer::Impl {
     // Only right after a uniform prior: planting refined modes while tracking through a crowd
     // (uncertain, weighed coarse) moves a good cloud onto fits that people distort.
     ambiguous = false;
+    best_hypothesis.reset();
     const bool planted = global_round && config.hypotheses.count > 0 && plantRefinedModes();
     est.ess = effectiveSampleSize(ps.logw);
     // Lost when most sensors of the round are explained by no particle (one sensor alone may be
@@ -256,6 +266,7 @@ struct Localizer::Impl {
     const bool lost = round_collapsed > 0 || 2 * round_lost > round_sensors;
     const MclEstimate before = est;
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
+    if (best_hypothesis && est.status != MclStatus::Tracking) est.pose = *best_hypothesis;
     // Where the last estimate would be now by odometry; a tracked estimate far from it was taken
     // over by injected particles.
     const Pose predicted = before.pose * (odom_at_round.inverse() * odom_at_predict);
@@ -323,7 +334,13 @@ struct Localizer::Impl {
   bool plantRefinedModes() {
     const std::vector<RefineScan> scans = roundScans();
     if (scans.empty()) return false;
-    std::vector<Hypothesis> hyps = refineModes(caster, rig, scans, ps, config.hypotheses, config.refine);
+    std::vector<Pose> screened;
+    if (screen) {
+      if (screen_positions.empty())
+        screen_positions = floor.sampleFree(config.hypotheses.screen.positions, rng, kScreenStream);
+      screened = screen->best(rig, scans, screen_positions, config.hypotheses.separation, config.hypotheses.separation_yaw);
+    }
+    std::vector<Hypothesis> hyps = refineModes(caster, rig, scans, ps, config.hypotheses, config.refine, screened);
     // A refined mode whose beams see through the map's walls is a wrong place, however many
     // of its beams found a wall.
     std::erase_if(hyps, [&](const Hypothesis& h) {
@@ -341,6 +358,7 @@ struct Localizer::Impl {
       places += distinct;
     }
     ambiguous = places > 1;
+    trackHypotheses(hyps);
     const size_t n = plantHypotheses(ps, hyps, config.hypotheses, rng, kPlantStream + step);
     if (n == 0) return false;
     counters.hypotheses += hyps.size();
@@ -348,6 +366,15 @@ struct Localizer::Impl {
     normalizeLogWeights(ps.logw);
     est.ess = effectiveSampleSize(ps.logw);
     return true;
+  }
+
+  // The refined modes matched to the places of earlier global rounds (hypotheses.hpp); the best
+  // place is the estimate while the global phase searches.
+  void trackHypotheses(const std::vector<Hypothesis>& hyps) {
+    if (tracked.empty()) tracked_odom = odom_at_predict;
+    trackPlaces(tracked, hyps, tracked_odom.inverse() * odom_at_predict);
+    tracked_odom = odom_at_predict;
+    if (const TrackedPlace* best = bestPlace(tracked)) best_hypothesis = best->pose;
   }
 
   // The round's frames cast from the estimate in the exact map (fit_check.hpp): do they see
@@ -441,6 +468,11 @@ struct Localizer::Impl {
   size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior
   size_t global_rounds = 0;  // coarse rounds since the last uniform prior
   bool ambiguous = false;    // the round's refined modes (global localisation) found several places
+  std::optional<Pose> best_hypothesis;  // the best tracked place of this global round
+  std::vector<TrackedPlace> tracked;  // places of the global rounds since the last uniform prior
+  Pose tracked_odom;                  // odometry at which their poses hold
+  std::unique_ptr<ScanScreen> screen;  // null: no level scanner, or screening off
+  std::vector<Pose> screen_positions;  // its candidate places, drawn at the first global round
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config,

@@ -215,6 +215,9 @@ size_t Grid2dCaster::width() const { return impl_->nx; }
 size_t Grid2dCaster::height() const { return impl_->ny; }
 double Grid2dCaster::resolution() const { return impl_->res; }
 bool Grid2dCaster::occupied(size_t x, size_t y) const { return impl_->occ(long(x), long(y)); }
+std::span<const float> Grid2dCaster::clearance() const { return impl_->clearance; }
+double Grid2dCaster::originX() const { return impl_->ox; }
+double Grid2dCaster::originY() const { return impl_->oy; }
 size_t Grid2dCaster::memoryBytes() const {
   return impl_->cell.capacity() * sizeof(uint32_t) + impl_->clearance.capacity() * sizeof(float);
 }

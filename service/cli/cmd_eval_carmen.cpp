@@ -57,6 +57,11 @@ nlohmann::json splitByObservability(const TrajectoryMetrics& m, const reloc::Car
   return {{"pinned", part(pinned)}, {"open_along_heading", part(open)}, {"open_threshold_m", kOpenAlongM}};
 }
 
+nlohmann::json headingJson(const TrajectoryMetrics& m) {
+  const HeadingSplit h = splitByHeading(m.frames);
+  return {{"along_rmse_m", reloc::num(h.along_rmse_m)}, {"across_rmse_m", reloc::num(h.across_rmse_m)}};
+}
+
 size_t framesBeyond(const TrajectoryMetrics& m, double d) {
   size_t n = 0;
   for (const auto& f : m.frames) n += f.converged && f.pos_err > d;
@@ -75,6 +80,7 @@ nlohmann::json variantJson(const reloc::CarmenVariant& v, const reloc::CarmenEva
   if (v.metrics) {
     j["frames_beyond_0_5m_after_convergence"] = framesBeyond(*v.metrics, kLostM);
     if (floor) j["by_observability"] = splitByObservability(*v.metrics, r);
+    j["by_heading"] = headingJson(*v.metrics);
     if (floor && floor->all.ate_rmse_m > 0) {
       j["ate_over_floor"] = v.metrics->all.ate_rmse_m / floor->all.ate_rmse_m;
       j["p95_over_floor"] = v.metrics->all.p95_pos_err_m / floor->all.p95_pos_err_m;
@@ -198,6 +204,7 @@ void run(Args a) {
       j["floor"]["refined"] = r.floor_refined;
       j["floor"]["refused"] = r.floor_refused;
       j["floor"]["by_observability"] = splitByObservability(*r.floor, r);
+      j["floor"]["by_heading"] = headingJson(*r.floor);
       auto pct = [](const std::vector<double>& v) {
         return nlohmann::json{{"p05", percentile(v, 5)}, {"p50", percentile(v, 50)}, {"p95", percentile(v, 95)}, {"max", percentile(v, 100)}};
       };

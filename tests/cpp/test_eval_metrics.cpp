@@ -225,5 +225,17 @@ TEST(EvalMetrics, BadInputIsSkippedNotFatal) {
   EXPECT_FALSE(empty.converged_after_s);
 }
 
+// An offset of 3 cm ahead and 4 cm to the left in the robot's frame, on a circle (the heading
+// turns all the time): 3 cm along, 4 cm across, whatever the map direction.
+TEST(EvalTrajectory, ErrorSplitAlongAndAcrossTheHeading) {
+  const auto truth = circle(10, 100);
+  const TrajectoryMetrics m = evaluateTrajectory(estimatesFrom(truth, Pose::planar(0.03, 0.04, 0)), GroundTruth(truth));
+  const HeadingSplit h = splitByHeading(m.frames);
+  EXPECT_NEAR(h.along_rmse_m, 0.03, 1e-6);
+  EXPECT_NEAR(h.across_rmse_m, 0.04, 1e-6);
+  EXPECT_NEAR(std::hypot(h.along_rmse_m, h.across_rmse_m), m.all.ate_rmse_m, 1e-6);
+  EXPECT_EQ(splitByHeading({}).along_rmse_m, 0.0);
+}
+
 }  // namespace
 }  // namespace polyloc

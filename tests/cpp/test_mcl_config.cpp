@@ -39,12 +39,15 @@ TEST(MclConfigYaml, UnknownKeysAndBadValuesNameTheKey) {
   EXPECT_NE(error("mcl:\n  hypotheses: {count: -1}\n").find("count"), std::string::npos);
   EXPECT_NE(error("mcl:\n  hypotheses: {particles: 0}\n").find("between 1 and"), std::string::npos);
   EXPECT_NE(error("mcl:\n  hypotheses: {seperation: 1}\n").find("seperation"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  hypotheses: {screen: {headings: 0}}\n").find("headings"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  hypotheses: {screen: {kep: 3}}\n").find("kep"), std::string::npos);
   EXPECT_NE(error("mcl:\n  blocked_max_mass: 2\n").find("blocked_max_mass"), std::string::npos);
 }
 
 TEST(MclConfigYaml, HypothesesAndRelocalizationKeys) {
   ConfigMap m = ConfigMap::parse("mcl:\n  relocalize_jump: 2.5\n  blocked_max_mass: 0.8\n"
-                                 "  hypotheses: {count: 8, separation_yaw: 30, fresh: 0}\n", "t.yaml");
+                                 "  hypotheses: {count: 8, separation_yaw: 30, fresh: 0,\n"
+                                 "               screen: {keep: 12, headings: 36, truncate: 0.2}}\n", "t.yaml");
   const MclConfig c = parseMclConfig(m.map("mcl"));
   EXPECT_DOUBLE_EQ(c.relocalize_jump, 2.5);
   EXPECT_DOUBLE_EQ(c.blocked_max_mass, 0.8);
@@ -52,6 +55,10 @@ TEST(MclConfigYaml, HypothesesAndRelocalizationKeys) {
   EXPECT_NEAR(c.hypotheses.separation_yaw, deg2rad(30), 1e-12);
   EXPECT_EQ(c.hypotheses.fresh, 0u);
   EXPECT_EQ(c.hypotheses.particles, GlobalHypotheses{}.particles);
+  EXPECT_EQ(c.hypotheses.screen.keep, 12u);
+  EXPECT_EQ(c.hypotheses.screen.headings, 36u);
+  EXPECT_DOUBLE_EQ(c.hypotheses.screen.truncate, 0.2);
+  EXPECT_EQ(c.hypotheses.screen.positions, ScanScreenConfig{}.positions);
 }
 
 TEST(MclConfigYaml, LabConfigHasAnMclSection) {

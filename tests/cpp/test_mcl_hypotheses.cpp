@@ -87,3 +87,28 @@ TEST(MclHypotheses, BlockedParticlesHoldingMostWeightAreKept) {
   EXPECT_FALSE(std::isfinite(b.logw[1]));
   EXPECT_TRUE(std::isfinite(b.logw[3]));
 }
+
+// Along a corridor every round finds several places; the one that keeps fitting as the robot
+// moves outscores a better single fit elsewhere, and a place missed twice is dropped.
+TEST(MclHypotheses, TrackedPlacesAccumulateAndFollowOdometry) {
+  std::vector<TrackedPlace> places;
+  const Pose step = Pose::planar(1.0, 0, 0);  // the robot drove 1 m ahead between rounds
+  // Round 1: the truth at (0, 0) and a wrong place at (10, 5), heading +x.
+  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(0, 0, 0), 0.85, 0.03}, {Pose::planar(10, 5, 0), 0.8, 0.03}}, Pose());
+  ASSERT_EQ(places.size(), 2u);
+  // Rounds 2 and 3: the truth found again 1 m on (a few cm off the odometry), the wrong place not;
+  // a new place fits better than either in round 3 alone.
+  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(1.03, 0.02, 0.01), 0.9, 0.03}}, step);
+  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(2.0, 0, 0), 0.88, 0.03}, {Pose::planar(-20, 3, 3.0), 0.97, 0.02}}, step);
+  ASSERT_EQ(places.size(), 2u);  // (10, 5) missed twice: dropped
+  const TrackedPlace* best = bestPlace(places);
+  ASSERT_NE(best, nullptr);
+  EXPECT_NEAR(best->pose.x(), 2.0, 1e-9);
+  EXPECT_NEAR(best->score, 0.85 + 0.9 + 0.88, 1e-9);
+  EXPECT_EQ(best->missed, 0u);
+  // Unmatched this round: carried by odometry.
+  trackPlaces(places, {}, step);
+  EXPECT_NEAR(bestPlace(places)->pose.x(), 3.0, 1e-9);
+  EXPECT_EQ(bestPlace(places)->missed, 1u);
+  EXPECT_EQ(bestPlace(std::vector<TrackedPlace>{}), nullptr);
+}

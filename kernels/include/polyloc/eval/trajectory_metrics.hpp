@@ -75,4 +75,11 @@ TrajectoryMetrics evaluateTrajectory(std::vector<EstimatedPose> estimates, const
 // The summary of any subset of frames (e.g. a time window for a plot).
 ErrorSummary summarize(std::span<const FrameError> frames);
 
+// RMSE of the planar position error along the true heading and across it (0 without frames):
+// a corridor leaves the position open along it, so there the error is mostly along.
+struct HeadingSplit {
+  double along_rmse_m = 0, across_rmse_m = 0;
+};
+HeadingSplit splitByHeading(std::span<const FrameError> frames);
+
 }  // namespace polyloc

@@ -122,6 +122,18 @@ struct DepthModel {
 // round, and those that fit are planted back as tight clouds. A sparse prior has no particle
 // within centimetres of the truth, and without this the fine weighting that follows picks the
 // mode with the luckiest particle, not the place that fits best.
+// Scan screening (scan_screen.hpp): each global round, free-floor positions x headings scored
+// on a 2D distance transform by the round's level beams; the best distinct ones are refined with
+// the cloud's modes.
+struct ScanScreenConfig {
+  size_t keep = 24;              // candidates refined per round (0: screening off)
+  size_t positions = 20000;      // free-floor places, drawn once
+  size_t headings = 72;          // per place, evenly spaced (5 deg)
+  size_t beams_per_scan = 30;    // level beams of each scan, evenly spread
+  double truncate = 0.3;         // m: an endpoint farther from a wall costs this, squared
+  double resolution = 0.1;       // m: cells of the distance transform
+};
+
 struct GlobalHypotheses {
   size_t count = 24;               // modes refined per round (0: off)
   double separation = 0.5;         // m: a mode is this far from the better ones ...
@@ -135,6 +147,7 @@ struct GlobalHypotheses {
   double max_correction_yaw = 0.3; // rad
   size_t beams_per_scan = 60;      // valid beams per scan in the refinement
   size_t fresh = 10000;            // uniform particles added after each coarse round (new candidates)
+  ScanScreenConfig screen;         // more candidates, from the scans themselves
 };
 
 // Lost, or only hidden by people and clutter? (fit_check.hpp) After each round the estimate's

@@ -28,16 +28,38 @@ struct Hypothesis {
 // `separation_yaw` (rad) away from every better one taken. Particles of weight zero are skipped.
 std::vector<size_t> distinctModes(const ParticleSet& s, size_t k, double separation, double separation_yaw);
 
-// Refines the modes (distinctModes with the config's count and separation) in 3 DoF against the
-// scans and keeps those that fit: inlier ratio >= min_inlier_ratio and within ratio_margin of the
+// Refines the modes (distinctModes with the config's count and separation), then the `extra`
+// start poses (scan_screen.hpp), in 3 DoF against the scans and keeps those that fit: inlier ratio >= min_inlier_ratio and within ratio_margin of the
 // best. `base` supplies the Gauss-Newton settings (huber, max_correspondence, iterations).
 std::vector<Hypothesis> refineModes(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans,
-                                    const ParticleSet& s, const GlobalHypotheses& config, const RefineConfig& base);
+                                    const ParticleSet& s, const GlobalHypotheses& config, const RefineConfig& base,
+                                    std::span<const Pose> extra = {});
 
 // Replaces the lightest particles (at most half of the set) by `config.particles` per hypothesis,
 // drawn around it (spread_xy, spread_yaw; z, roll, pitch as refined), each with the weight of the
 // heaviest particle. Returns the number planted. logw is left unnormalised.
 size_t plantHypotheses(ParticleSet& s, std::span<const Hypothesis> hyps, const GlobalHypotheses& config,
                        const CounterRng& rng, uint64_t stream);
+
+// A place the global rounds found, carried from round to round by odometry. The best tracked
+// place, not the dominant particle cluster, is the estimate while the global phase searches: the
+// coarse weighting cannot tell a place where 0.95 of a scan's beams lie on walls from one with
+// 0.85 (CARMEN aces: the truth refined best in round 10 while the cluster sat on a corridor end
+// 9 m away), and along a corridor one round's best fit is chance, while the place that keeps
+// fitting as the robot moves is the truth.
+struct TrackedPlace {
+  Pose pose;          // map_T_base
+  double score = 0;   // sum of the inlier shares of the rounds that found it
+  size_t missed = 0;  // rounds in a row that did not
+};
+
+// One round: every place moved by `moved` (the base's motion since the last round, base frame);
+// each hypothesis matched to the first place within 1 m and 0.5 rad (or a new place), a place
+// found adds the best inlier share among its matches and takes that pose; a place missed in two
+// rounds in a row is dropped.
+void trackPlaces(std::vector<TrackedPlace>& places, std::span<const Hypothesis> hyps, const Pose& moved);
+
+// The place of the highest score (the first of equals), null when there is none.
+const TrackedPlace* bestPlace(std::span<const TrackedPlace> places);
 
 }  // namespace polyloc

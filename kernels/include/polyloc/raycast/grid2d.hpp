@@ -22,6 +22,7 @@
 #include <polyloc/raycast/per_ray_caster.hpp>
 
 #include <memory>
+#include <span>
 
 namespace polyloc {
 
@@ -48,6 +49,11 @@ class Grid2dCaster final : public PerRayCaster {
   size_t height() const;
   double resolution() const;
   bool occupied(size_t x, size_t y) const;
+  // Per cell (row-major, x fastest) the distance (m) to the nearest occupied cell, 0 in one;
+  // cell (0, 0) has its corner at (originX(), originY()).
+  std::span<const float> clearance() const;
+  double originX() const;
+  double originY() const;
   OccupancyGrid grid() const;  // as a map grid (origin at the grid corner, yaw 0)
   size_t memoryBytes() const;  // cells, their triangles and the distance transform
 

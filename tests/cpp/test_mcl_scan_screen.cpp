@@ -1,0 +1,93 @@
+// Scan screening (scan_screen.hpp): candidates of the free floor scored by where a scan's level
+// beams land on the map's 2D distance transform.
+#include "mcl_fixtures.hpp"
+
+#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/scan_screen.hpp>
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+using namespace polyloc;
+using namespace polyloc::test;
+
+namespace {
+
+struct Room {
+  Mesh mesh = asymmetricRoom();
+  EmbreeCaster caster{mesh};
+  Rig rig = scannerRig();
+  MclConfig cfg;
+  std::vector<Pose> positions;
+  Room() {
+    FreeFloor floor(caster, mesh, cfg);
+    positions = floor.sampleFree(3000, CounterRng(5), 11);
+  }
+};
+
+}  // namespace
+
+TEST(ScanScreen, TheTruePoseIsTheBestCandidate) {
+  Room room;
+  ScanScreenConfig sc;
+  const ScanScreen screen(room.mesh, 0.2, sc);
+  // Three places of the room; the cabinet and the bin make each unique, so the best candidate is
+  // the truth, up to the candidate grid (positions about 0.1 m apart here, headings 5 deg).
+  for (const Pose& truth : {Pose::planar(-1.0, 0.5, 0.3), Pose::planar(1.2, -0.8, 2.5), Pose::planar(0.3, 1.5, -1.2)}) {
+    const std::vector<float> r = simulateScan(room.caster, room.rig.sensors[0], truth, 0.01, 1);
+    const RefineScan scan{0, r, Pose()};
+    const std::vector<Pose> best = screen.best(room.rig, std::span(&scan, 1), room.positions, 0.5, 0.35);
+    ASSERT_EQ(best.size(), sc.keep);
+    EXPECT_LT(posErr(best[0], truth), 0.25) << truth.x() << " " << truth.y();
+    EXPECT_LT(yawErrDeg(best[0], truth), 5.0) << truth.x() << " " << truth.y();
+  }
+}
+
+TEST(ScanScreen, CandidatesAreDistinctAndAtMostKeep) {
+  Room room;
+  ScanScreenConfig sc;
+  sc.keep = 10;
+  const ScanScreen screen(room.mesh, 0.2, sc);
+  const Pose truth = Pose::planar(-1.0, 0.5, 0.3);
+  const std::vector<float> r = simulateScan(room.caster, room.rig.sensors[0], truth, 0.01, 1);
+  const RefineScan scan{0, r, Pose()};
+  const std::vector<Pose> best = screen.best(room.rig, std::span(&scan, 1), room.positions, 0.5, 0.35);
+  ASSERT_EQ(best.size(), 10u);
+  for (size_t i = 0; i < best.size(); ++i)
+    for (size_t k = 0; k < i; ++k)
+      EXPECT_TRUE(posErr(best[i], best[k]) >= 0.5 || yawErrDeg(best[i], best[k]) >= rad2deg(0.35)) << i << " " << k;
+}
+
+TEST(ScanScreen, NoLevelBeamNoCandidate) {
+  Room room;
+  const ScanScreen screen(room.mesh, 0.2, ScanScreenConfig{});
+  const Pose truth = Pose::planar(-1.0, 0.5, 0.3);
+  // The scanner tilted 45 deg down sees the floor only: nothing to screen with.
+  Rig tilted = room.rig;
+  tilted.sensors[0].mount = Pose::fromXYZRPY(0.1, 0, 0.2, 0, deg2rad(45.0), 0);
+  const std::vector<float> r = simulateScan(room.caster, tilted.sensors[0], truth, 0.01, 1);
+  const RefineScan scan{0, r, Pose()};
+  EXPECT_TRUE(screen.best(tilted, std::span(&scan, 1), room.positions, 0.5, 0.35).empty());
+  // Nor without positions, or with screening off.
+  const RefineScan level{0, simulateScan(room.caster, room.rig.sensors[0], truth, 0.01, 1), Pose()};
+  EXPECT_TRUE(screen.best(room.rig, std::span(&level, 1), {}, 0.5, 0.35).empty());
+  ScanScreenConfig off;
+  off.keep = 0;
+  EXPECT_TRUE(ScanScreen(room.mesh, 0.2, off).best(room.rig, std::span(&level, 1), room.positions, 0.5, 0.35).empty());
+}
+
+TEST(ScanScreen, SameCandidatesOnOneAndTwoThreads) {
+  Room room;
+  const ScanScreen screen(room.mesh, 0.2, ScanScreenConfig{});
+  const std::vector<float> r = simulateScan(room.caster, room.rig.sensors[0], Pose::planar(1.2, -0.8, 2.5), 0.01, 1);
+  const RefineScan scan{0, r, Pose()};
+  std::vector<Pose> one, two;
+  tbb::task_arena(1).execute([&] { one = screen.best(room.rig, std::span(&scan, 1), room.positions, 0.5, 0.35); });
+  tbb::task_arena(2).execute([&] { two = screen.best(room.rig, std::span(&scan, 1), room.positions, 0.5, 0.35); });
+  ASSERT_EQ(one.size(), two.size());
+  for (size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].x(), two[i].x()) << i;
+    EXPECT_EQ(one[i].y(), two[i].y()) << i;
+    EXPECT_EQ(one[i].yaw(), two[i].yaw()) << i;
+  }
+}
