@@ -111,7 +111,11 @@ void drawPlot(const Args& a, const reloc::CarmenEvalResult& r) {
     if (k == 0) path(odo, viz::kGray, 1);
     path(est, colors[k], 2);
     legend += fmt::format(", {} {}", k == 0 ? "blue" : "orange", v.name);
-    if (v.metrics) legend += fmt::format(" (ATE {:.3f} m)", v.metrics->all.ate_rmse_m);
+    if (v.metrics) {
+      const HeadingSplit h = splitByHeading(v.metrics->frames);
+      legend += fmt::format(" (ATE {:.3f} m: {:.3f} along the heading, {:.3f} across)", v.metrics->all.ate_rmse_m,
+                            h.along_rmse_m, h.across_rmse_m);
+    }
   }
   path(truth, viz::kBlack, 1);
   if (!r.variants.empty()) legend += fmt::format(", grey {} odometry alone", r.variants[0].name);
@@ -122,7 +126,11 @@ void drawPlot(const Args& a, const reloc::CarmenEvalResult& r) {
   }
   if (!r.global.empty()) legend += fmt::format("\nglobal: {}/{} (green) within {} m, {} deg after {} updates", ok, r.global.size(),
                                                a.eval.global_pos_tol, a.eval.global_yaw_tol_deg, a.eval.global_updates);
-  if (r.floor) legend += fmt::format("\nfloor (test scans aligned to the map): RMSE {:.3f} m", r.floor->all.ate_rmse_m);
+  if (r.floor) {
+    const HeadingSplit h = splitByHeading(r.floor->frames);
+    legend += fmt::format("\nfloor (test scans aligned to the map): RMSE {:.3f} m: {:.3f} along the heading, {:.3f} across",
+                          r.floor->all.ate_rmse_m, h.along_rmse_m, h.across_rmse_m);
+  }
   view.drawLegend(legend);
   view.drawScaleBar();
   if (auto dir = std::filesystem::path(a.plot).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
