@@ -151,14 +151,15 @@ typedef struct {
 
 typedef struct {
   uint64_t taken;              /* frames used */
-  uint64_t rejected_nan;       /* NaN/inf where a number is required (pose fields, all ranges) */
+  uint64_t rejected_nan;       /* a value outside its domain: NaN/inf, odometry beyond 1e6 m, no range a distance (docs/failure.md) */
   uint64_t rejected_size;      /* size or count not the channel's */
   uint64_t rejected_stale;     /* stamp older than the last or than now - max_age */
   uint64_t rejected_future;    /* stamp later than now + max_future */
   uint64_t overruns;           /* frames overwritten before polylocd read them */
   int64_t last_stamp_ns;       /* of the last frame taken */
   uint32_t silent;             /* 1: no frame for longer than the input timeout */
-  uint32_t reserved;
+  uint32_t map_fit_permille;   /* share of this sensor's beams the map explains at the estimate, smoothed
+                                  (mcl.fit), in 1/1000, at least 1; 0: not measured (odometry, not weighed) */
 } polyloc_input_health;
 typedef struct {
   int64_t stamp_ns;            /* CLOCK_REALTIME when written */
@@ -166,7 +167,7 @@ typedef struct {
   uint64_t poses, vrs, tracks; /* outputs published */
   double cycle_p50_ms, cycle_p99_ms;  /* over the last 1000 cycles */
   uint32_t inputs;             /* entries in input[] (= input channels, in channel order) */
-  uint32_t flags;              /* bit 0: some input silent; bit 1: localisation lost */
+  uint32_t flags;              /* bit 0: some input silent; bit 1: localisation lost; bit 2: the scans do not fit the map */
   polyloc_input_health input[POLYLOC_MAX_INPUTS];
 } polyloc_health;
 

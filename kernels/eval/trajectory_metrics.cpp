@@ -51,6 +51,9 @@ size_t convergenceIndex(const std::vector<FrameError>& frames, const MetricsOpti
   for (size_t i = n; i-- > 0;) next_bad[i] = good(frames[i]) ? next_bad[i + 1] : i;
   const int64_t last = frames.back().stamp_ns;
   for (size_t i = 0; i < n; ++i) {
+    // Convergence starts at an estimate the filter calls tracking: a run that never claimed to
+    // track, however close its initial guess, has not converged.
+    if (frames[i].status != MclStatus::Tracking) continue;
     const int64_t until = frames[i].stamp_ns + hold_ns;
     if (until > last) break;  // not enough run left to show it holds
     if (next_bad[i] == n || frames[next_bad[i]].stamp_ns > until) return i;

@@ -3,6 +3,7 @@
 // are). Mapping to ROS 2 messages, and what is ignored, is in docs/recordings.md.
 // Messages come in file order: the CARMEN logger writes each message as it arrives, so a log
 // is in time order by construction.
+#include <polyloc/geometry/domain_limits.hpp>
 #include <polyloc/geometry/pose.hpp>
 #include <polyloc/io/recording.hpp>
 
@@ -212,13 +213,21 @@ class CarmenSource {
   }
 
   // Parses fields [first, first + n) as finite numbers into out; warns and returns false if not.
+  // Every number a CARMEN line holds (poses, speeds, angles, ranges limits) is within +-1e6: a
+  // larger one is a corrupt line, not a pose to carry particles to (docs/failure.md).
   bool numbers(ReadStats& stats, size_t first, size_t n, double* out) {
-    for (size_t k = 0; k < n; ++k)
+    for (size_t k = 0; k < n; ++k) {
       if (!parseFinite(t_[first + k], out[k])) {
         stats.warn(where() + std::string(t_[0]) + ": field " + std::to_string(first + k) +
                    " is not a number: " + quote(t_[first + k]));
         return false;
       }
+      if (std::fabs(out[k]) > domain::kMaxCoordinate) {
+        stats.warn(where() + std::string(t_[0]) + ": field " + std::to_string(first + k) + " is " +
+                   quote(t_[first + k]) + ": beyond +-1e6, line skipped");
+        return false;
+      }
+    }
     return true;
   }
   // num_readings-like count at field i, 0..kMaxReadings.
@@ -252,6 +261,13 @@ class CarmenSource {
       stats.warn(where() + std::string(t_[0]) + ": bad timestamp " + quote(ns ? t_[i + 2] : t_[i]));
       return std::nullopt;
     }
+    // Kept (a log's order is its order; --restamp orders by place), but said once.
+    if (last_ns_ && *ns < *last_ns_ && !noted_backwards_) {
+      noted_backwards_ = true;
+      stats.note(where() + "time goes backwards (" + std::string(t_[i]) + " s after " +
+                 std::to_string(double(*last_ns_) * 1e-9) + " s); later occurrences are not noted");
+    }
+    last_ns_ = ns;
     return ns;
   }
   void emit(const std::string& topic, int64_t ns, msg::Message m) {
@@ -399,6 +415,8 @@ class CarmenSource {
   LineReader lines_;
   OdometrySource odometry_;
   bool noted_odometry_ = false;
+  bool noted_backwards_ = false;
+  std::optional<int64_t> last_ns_;
   std::string line_;
   std::vector<std::string_view> t_;
   uint64_t line_no_ = 0;

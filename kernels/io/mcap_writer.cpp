@@ -8,6 +8,7 @@
 // Nothing in the output depends on the clock or on addresses: the same calls give the same bytes.
 #include "mcap_records.hpp"
 
+#include <polyloc/io/atomic_file.hpp>
 #include <polyloc/io/cdr.hpp>
 #include <polyloc/io/recording.hpp>
 
@@ -15,6 +16,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <limits>
 
 namespace polyloc {
@@ -22,11 +24,11 @@ namespace {
 
 class McapWriter final : public RecordingWriter {
  public:
-  McapWriter(const std::string& path, const McapWriteOptions& o) : path_(path), opt_(o) {
+  McapWriter(const std::string& path, const McapWriteOptions& o) : path_(path), opt_(o), out_(path) {
     if (!o.compression.empty() && o.compression != "zstd" && o.compression != "lz4")
       throw IoError(path + ": unknown MCAP chunk compression \"" + o.compression +
                     "\" (use zstd, lz4 or none)");
-    file_ = std::fopen(path.c_str(), "wb");
+    file_ = std::fopen(out_.tmp().c_str(), "wb");
     if (!file_) throw IoError(path + ": cannot create: " + std::strerror(errno));
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
     std::vector<uint8_t> b(std::begin(mcap::kMagic), std::end(mcap::kMagic));
@@ -37,6 +39,11 @@ class McapWriter final : public RecordingWriter {
     emit(b);
   }
   ~McapWriter() override {
+    if (file_ && std::uncaught_exceptions() > unwinding_) {  // failed midway: the old file stays
+      std::fclose(file_);
+      out_.discard();
+      return;
+    }
     try {
       close();
     } catch (...) {  // a destructor must not throw; close() explicitly to see the error
@@ -82,7 +89,11 @@ class McapWriter final : public RecordingWriter {
     bool ok = std::fflush(file_) == 0;
     ok = std::fclose(file_) == 0 && ok;
     file_ = nullptr;
-    if (!ok) throw IoError(path_ + ": write failed: " + std::strerror(errno));
+    if (!ok) {
+      out_.discard();
+      throw IoError(path_ + ": write failed: " + std::strerror(errno));
+    }
+    out_.commit();
   }
 
  private:
@@ -91,6 +102,7 @@ class McapWriter final : public RecordingWriter {
       int e = errno;
       std::fclose(file_);
       file_ = nullptr;
+      out_.discard();
       throw IoError(path_ + ": write failed at byte " + std::to_string(pos_) + ": " + std::strerror(e));
     }
     crc_ = mcap::crc32(crc_, b);
@@ -216,6 +228,8 @@ class McapWriter final : public RecordingWriter {
 
   std::string path_;
   McapWriteOptions opt_;
+  AtomicFile out_;  // written as a temporary, renamed by close()
+  int unwinding_ = std::uncaught_exceptions();
   std::FILE* file_ = nullptr;
   uint64_t pos_ = 0;   // bytes written so far
   uint32_t crc_ = 0;   // CRC of those bytes (only the data section's value is used)

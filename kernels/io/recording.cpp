@@ -78,15 +78,6 @@ std::unique_ptr<RecordingReader> openRecording(const std::string& path) {
   throw IoError(unreadable);
 }
 
-void TopicTally::add(const RecordedMessage& m) {
-  auto [it, added] = index_.try_emplace(m.topic, topics_.size());
-  if (added) topics_.push_back({m.topic, msg::typeName(m.message), 0, m.log_time_ns, m.log_time_ns});
-  TopicInfo& t = topics_[it->second];
-  ++t.count;
-  t.first_ns = std::min(t.first_ns, m.log_time_ns);
-  t.last_ns = std::max(t.last_ns, m.log_time_ns);
-}
-
 RecordingSpan spanOf(const std::vector<TopicInfo>& topics) {
   RecordingSpan r;
   for (const TopicInfo& t : topics) {

@@ -93,9 +93,19 @@ std::vector<StampedPose> readTum(const std::string& path) {
   return poses;
 }
 
-TumWriter::TumWriter(const std::string& path) : path_(path), out_(path) {
+TumWriter::TumWriter(const std::string& path) : path_(path), file_(path), out_(file_.tmp()) {
   if (!out_) throw IoError(path + ": cannot create TUM trajectory file");
   out_ << "# timestamp x y z qx qy qz qw\n";
+}
+
+TumWriter::~TumWriter() {
+  if (out_.is_open()) out_.close();  // file_ then commits, or discards while an exception unwinds
+}
+
+void TumWriter::close() {
+  out_.close();
+  if (!out_) throw IoError(path_ + ": writing the TUM trajectory failed");
+  file_.commit();
 }
 
 void TumWriter::write(const StampedPose& p) {

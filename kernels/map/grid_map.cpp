@@ -1,5 +1,7 @@
-#include <polyloc/config/yaml.hpp>
 #include <polyloc/map/grid_map.hpp>
+
+#include <polyloc/config/yaml.hpp>
+#include <polyloc/io/atomic_file.hpp>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -62,8 +64,9 @@ void saveGridMap(const OccupancyGrid& g, const std::string& yaml_path, const Gri
   if (g.cells.size() != g.width * g.height) throw GridMapError(yaml_path + ": grid has a wrong cell count");
   const fs::path yp(yaml_path);
   const fs::path pgm = fs::path(yaml_path).replace_extension(".pgm");
+  AtomicFile pgm_file(pgm.string()), yaml_file(yaml_path);  // both replaced only when both are whole
   {
-    std::ofstream f(pgm, std::ios::binary);
+    std::ofstream f(pgm_file.tmp(), std::ios::binary);
     f << "P5\n" << g.width << ' ' << g.height << "\n255\n";
     std::vector<char> row(g.width);
     for (size_t r = 0; r < g.height; ++r) {
@@ -76,12 +79,15 @@ void saveGridMap(const OccupancyGrid& g, const std::string& yaml_path, const Gri
     }
     if (!f) throw GridMapError(pgm.string() + ": cannot write");
   }
-  std::ofstream y(yaml_path);
+  std::ofstream y(yaml_file.tmp());
   y.precision(17);
   y << "image: " << pgm.filename().string() << "\nresolution: " << g.resolution << "\norigin: ["
     << g.origin_x << ", " << g.origin_y << ", " << g.origin_yaw << "]\nnegate: 0\noccupied_thresh: "
     << o.occupied_thresh << "\nfree_thresh: " << o.free_thresh << "\n";
+  y.close();
   if (!y) throw GridMapError(yaml_path + ": cannot write");
+  pgm_file.commit();
+  yaml_file.commit();
 }
 
 }  // namespace polyloc

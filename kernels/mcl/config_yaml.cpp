@@ -143,6 +143,8 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     FitCheck& fc = c.fit;
     fc.tolerance = f.getDouble("tolerance", fc.tolerance, 1e-3, 100);
     fc.max_seen_through = f.getDouble("max_seen_through", fc.max_seen_through, 0, 1);
+    fc.min_explained = f.getDouble("min_explained", fc.min_explained, 0, 1);
+    fc.smoothing = f.getDouble("smoothing", fc.smoothing, 1e-3, 1);
     fc.beams_per_scan = f.getCount("beams_per_scan", fc.beams_per_scan, 0, 100'000);
     f.finish();
   }

@@ -1,6 +1,7 @@
 // Composes the filter: motion model on accumulated odometry, beam model per scan, blocked
 // particles zeroed, ESS-triggered systematic resampling with KLD particle count and augmented-MCL
 // injection, dominant-cluster estimate.
+#include <polyloc/geometry/domain.hpp>
 #include <polyloc/mcl/beam_model.hpp>
 #include <polyloc/mcl/sensor_model.hpp>
 #include <polyloc/mcl/estimate.hpp>
@@ -38,9 +39,6 @@ constexpr int64_t kOdomHistoryNs = 2'000'000'000;
 constexpr int64_t kExtrapolateNs = 100'000'000;
 constexpr int64_t kSilentNs = 1'000'000'000;  // a sensor not heard from for this long is not waited for  // odometry kept for interpolation to scan stamps
 
-bool finitePose(const Pose& p) {
-  return p.translation().allFinite() && p.rotation().coeffs().allFinite() && p.rotation().norm() > 0.5;
-}
 }  // namespace
 
 const char* toString(MclStatus s) {
@@ -59,7 +57,8 @@ Pose ParticleSet::pose(size_t i) const {
 
 struct Localizer::Impl {
   Impl(const RayCaster& exact, const Mesh& m, const Rig& r, const MclConfig& cfg, const RayCaster* weigh)
-      : caster(weigh ? *weigh : exact), exact(exact), rig(r), config(cfg), floor(exact, m, config), rng(cfg.seed) {
+      : caster(weigh ? *weigh : exact), exact(exact), rig(r), config(cfg), floor(exact, m, config), rng(cfg.seed),
+        bounds(m.bounds()) {
     const RayCaster& c = caster;
     for (const auto& s : rig.sensors) beams.push_back(s.beams());
     const std::vector<uint8_t> weighed = weighedSensors(rig, config);
@@ -95,6 +94,8 @@ struct Localizer::Impl {
 
   void reset(int64_t stamp) {
     est = MclEstimate{};
+    map_fit = -1;
+    sensor_fit.assign(rig.size(), -1.0);
     est.stamp_ns = stamp;
     est.particles = ps.size();
     std::fill(pending.begin(), pending.end(), 0);
@@ -381,8 +382,21 @@ struct Localizer::Impl {
   // through its walls? A contradicted estimate is uncertain at best.
   void checkEstimateFit() {
     const std::vector<RefineScan> scans = roundScans();
-    const ScanFit fit = scans.empty() ? ScanFit{}
-                                      : checkFit(exact, rig, scans, est.pose, config.fit.tolerance, config.fit.beams_per_scan);
+    ScanFit fit;
+    const auto smooth = [&](double& v, double x) { v = v < 0 ? x : v + config.fit.smoothing * (x - v); };
+    for (const RefineScan& s : scans) {  // per frame: the fit per sensor too
+      const ScanFit f = checkFit(exact, rig, {&s, 1}, est.pose, config.fit.tolerance, config.fit.beams_per_scan);
+      fit.beams += f.beams, fit.explained += f.explained, fit.shorter += f.shorter, fit.longer += f.longer;
+      if (f.beams > 0 && s.sensor < sensor_fit.size()) smooth(sensor_fit[s.sensor], f.explainedShare());
+    }
+    if (fit.beams > 0) smooth(map_fit, fit.explainedShare());
+    est.map_fit = map_fit;
+    est.sensor_fit = sensor_fit;
+    est.unfit = map_fit >= 0 && map_fit < config.fit.min_explained;
+    if (est.unfit) {
+      ++counters.unfit;
+      if (est.status == MclStatus::Tracking) est.status = MclStatus::Uncertain;
+    }
     est.seen_through = fit.seenThrough();
     est.contradicted = fit.beams > 0 && est.seen_through > config.fit.max_seen_through;
     if (!est.contradicted) return;
@@ -422,6 +436,9 @@ struct Localizer::Impl {
   MclConfig config;
   FreeFloor floor;
   CounterRng rng;
+  double map_fit = -1;              // smoothed over rounds (mcl.fit); -1: not measured since the reset
+  std::vector<double> sensor_fit;   // per rig sensor
+  Eigen::AlignedBox3f bounds;  // the map's: poses beyond it plus domain::kMapMargin are refused
   std::vector<BeamSet> beams;
   std::vector<std::unique_ptr<SensorModel>> models;
   std::vector<SensorModel*> model_of;
@@ -480,8 +497,22 @@ Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, c
     : impl_(std::make_unique<Impl>(caster, map, rig, config, weigh)) {}
 Localizer::~Localizer() = default;
 
-void Localizer::initPose(const Pose& pose, const Eigen::Matrix<double, 6, 6>& cov, int64_t stamp) {
+std::optional<std::string> Localizer::checkPose(const Pose& pose, const Eigen::Matrix<double, 6, 6>& cov) const {
+  if (auto why = domain::checkPose(pose, impl_->bounds)) return why;
+  if (!cov.allFinite()) return std::string("covariance has a non-finite entry");
+  static const char* kNames[] = {"sigma x", "sigma y", "sigma z", "sigma roll", "sigma pitch", "sigma yaw"};
+  for (int k = 0; k < 6; ++k) {
+    const double v = cov(k, k);
+    if (auto why = domain::checkSpread(kNames[k], v < 0 ? v : std::sqrt(v),
+                                       k < 3 ? domain::kMaxPositionSigma : domain::kMaxAngle))
+      return why;
+  }
+  return std::nullopt;
+}
+
+bool Localizer::initPose(const Pose& pose, const Eigen::Matrix<double, 6, 6>& cov, int64_t stamp) {
   Impl& d = *impl_;
+  if (checkPose(pose, cov)) return ++d.counters.poses_rejected, false;
   d.run([&] {
     // Draw from N(pose, cov) in (x y z roll pitch yaw); a covariance that is not positive
     // definite falls back to its diagonal.
@@ -490,7 +521,7 @@ void Localizer::initPose(const Pose& pose, const Eigen::Matrix<double, 6, 6>& co
     if (cov.allFinite() && llt.info() == Eigen::Success) L = llt.matrixL();
     else
       for (int k = 0; k < 6; ++k) L(k, k) = std::isfinite(cov(k, k)) ? std::sqrt(std::abs(cov(k, k))) : 0.0;
-    const Pose p0 = finitePose(pose) ? pose : Pose();
+    const Pose& p0 = pose;
     const size_t n = std::max<size_t>(d.config.particles, 1);
     resizeParticles(d.ps, n);
     for (size_t i = 0; i < n; ++i) {
@@ -503,6 +534,7 @@ void Localizer::initPose(const Pose& pose, const Eigen::Matrix<double, 6, 6>& co
     }
     d.reset(stamp);
   });
+  return true;
 }
 
 void Localizer::initGlobal(int64_t stamp) {
@@ -518,7 +550,7 @@ void Localizer::initGlobal(int64_t stamp) {
 void Localizer::addOdometry(int64_t stamp, const Pose& odom_T_base) {
   Impl& d = *impl_;
   ++d.counters.odometry;
-  if (!finitePose(odom_T_base)) return void(++d.counters.odometry_invalid);
+  if (domain::checkPose(odom_T_base)) return void(++d.counters.odometry_invalid);
   if (d.have_odom && stamp < d.last_odom_t) return void(++d.counters.odometry_out_of_order);
   if (!d.have_odom) {
     // The first message is the reference: no motion before it.

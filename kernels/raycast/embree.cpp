@@ -39,6 +39,16 @@ bool clearanceCallback(RTCPointQueryFunctionArguments* args) {
   return false;
 }
 
+// Embree asserts (aborting the process) on a ray whose origin or direction exceeds ~1.8e18 or
+// whose window is NaN; such a ray reports a miss instead. Callers check their inputs
+// (geometry/domain.hpp); this is the last defence.
+constexpr float kRayLimit = 1e17f;
+bool rayOk(float ox, float oy, float oz, float dx, float dy, float dz, float t0, float t1) {
+  return std::abs(ox) <= kRayLimit && std::abs(oy) <= kRayLimit && std::abs(oz) <= kRayLimit &&
+         std::abs(dx) <= kRayLimit && std::abs(dy) <= kRayLimit && std::abs(dz) <= kRayLimit && t0 <= t1 &&
+         !std::isnan(t0) && !std::isnan(t1);
+}
+
 template <class Hit>
 unsigned primOf(const Hit& hit, int k) {
   return hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID : hit.primID[k];
@@ -166,7 +176,8 @@ void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
           rh.ray.flags[k] = 0;
           rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
           // An empty window sees nothing: its lane stays off and reports a miss.
-          valid[k] = k < n && rh.ray.tnear[k] <= rh.ray.tfar[k] ? -1 : 0;
+          valid[k] = k < n && rayOk(o.x(), o.y(), o.z(), d.x(), d.y(), d.z(), rh.ray.tnear[k], rh.ray.tfar[k])
+                         ? -1 : 0;
           t0[k] = rh.ray.tnear[k];
           t1[k] = rh.ray.tfar[k];
         }
@@ -197,7 +208,8 @@ void EmbreeCaster::castScansSingle(std::span<const Pose> poses, const BeamSet& b
         rh.ray = {o.x(), o.y(), o.z(), beams.range_min, d.x(), d.y(), d.z(), 0.f,
                   beams.range_max, 0xFFFFFFFFu, 0, 0};
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(m.scene, &ctx, &rh);
+        if (rayOk(o.x(), o.y(), o.z(), d.x(), d.y(), d.z(), beams.range_min, beams.range_max))
+          rtcIntersect1(m.scene, &ctx, &rh);
         const unsigned prim = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID
                                                                        : rh.hit.primID;
         m.finish(out, p * nb + b, rh.ray.tfar, prim, d.x(), d.y(), d.z(), beams.range_min,
@@ -235,7 +247,9 @@ void EmbreeCaster::castRays(const RayBatch& rays, const HitBuffers& out) const {
         rh.ray.id[k] = 0;
         rh.ray.flags[k] = 0;
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-        valid[k] = k < n && t0[k] <= t1[k] ? -1 : 0;
+        valid[k] = k < n && rayOk(rays.ox[i], rays.oy[i], rays.oz[i], rays.dx[i], rays.dy[i], rays.dz[i],
+                                  t0[k], t1[k])
+                       ? -1 : 0;
       }
       rtcIntersect16(valid, m.scene, &ctx, &rh);
       for (int k = 0; k < n; ++k)
@@ -256,6 +270,10 @@ void EmbreeCaster::queryFree(std::span<const Eigen::Vector3f> points, float clea
     RTCPointQueryContext pctx;
     for (size_t i = i0; i < i1; ++i) {
       const Eigen::Vector3f& p = points[i];
+      if (!rayOk(p.x(), p.y(), p.z(), 0.f, 0.f, 0.f, 0.f, 0.f)) {
+        free[i] = 0;  // nowhere a robot can stand
+        continue;
+      }
       int back = 0;
       for (const auto& d : kVoteDirs) {
         RTCRayHit rh;

@@ -1,5 +1,7 @@
 #include <polyloc/vrs/virtual_scan.hpp>
 
+#include <polyloc/geometry/domain.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,7 +14,7 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-bool finitePose(const Pose& p) { return p.translation().allFinite() && p.rotation().coeffs().allFinite(); }
+bool finitePose(const Pose& p) { return !domain::checkPose(p); }
 
 // Planar scanners tilted by less than this are "horizontal": direct by default.
 constexpr double kLevel = 0.087;  // 5 deg

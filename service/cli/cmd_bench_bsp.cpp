@@ -3,6 +3,7 @@
 // thesis's Table 6.1 measurement (100,000 random rays): the BSP and Embree rows, and the
 // Bresenham rows (grid2d sliced at the ray height, at the thesis's 5, 4 and 1 cm) on the same
 // planar rays and points.
+#include "cli/parse_number.hpp"
 #include "cli/bench_ranges.hpp"
 #include "cli/bench_timing.hpp"
 #include "cli/commands.hpp"
@@ -238,14 +239,14 @@ void registerBenchBsp(CLI::App& bench) {
              "from random free points), point-in-solid queries/s");
   c.add_option("--map", a->map, "Map file (closed, outward-facing solids)")->required()->check(CLI::ExistingFile);
   c.add_option("--labels", a->labels, "Keep only the solids with these labels (comma-separated)");
-  c.add_option("--rays", a->rays, "Random rays of each kind")->capture_default_str()->check(CLI::PositiveNumber);
-  c.add_option("--points", a->points, "Random points for the point-in-solid test")->capture_default_str()->check(CLI::PositiveNumber);
-  c.add_option("--threads", a->threads, "Worker threads (0 = all cores; 1 compares with the thesis)")->capture_default_str()->check(CLI::NonNegativeNumber);
+  c.add_option("--rays", a->rays, "Random rays of each kind")->capture_default_str()->check(positiveFinite());
+  c.add_option("--points", a->points, "Random points for the point-in-solid test")->capture_default_str()->check(positiveFinite());
+  c.add_option("--threads", a->threads, "Worker threads (0 = all cores; 1 compares with the thesis)")->capture_default_str()->check(nonNegativeFinite());
   c.add_option("--height", a->height, "Height of the ray origins (m)")->capture_default_str();
   c.add_option("--clearance", a->clearance, "Robot radius of the second point test (m)")->capture_default_str();
-  c.add_option("--k", a->k, "BSP score weight k of k * splits + (1 - k) * imbalance")->capture_default_str()->check(CLI::Range(0.f, 1.f));
+  c.add_option("--k", a->k, "BSP score weight k of k * splits + (1 - k) * imbalance")->capture_default_str()->check(finiteRange(0.f, 1.f));
   c.add_option("--max-candidates", a->max_candidates, "BSP planes scored per node (0 = all)")->capture_default_str();
-  c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(CLI::PositiveNumber);
+  c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
   c.add_option("--grid", a->grid, "grid2d resolutions (m) of the Bresenham rows (0: none)")
       ->capture_default_str()->delimiter(',');
   c.add_option("--seed", a->seed, "Seed of the random rays and points")->capture_default_str();

@@ -1,5 +1,6 @@
 // polyloc bench ipc: one-way latency of one message size over a shm channel (reader woken by
 // futex), a UNIX domain socket and loopback TCP, in the same run (docs/interface.md, "Latency").
+#include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
 #include "cli/ipc_latency.hpp"
 
@@ -145,17 +146,17 @@ void registerBenchIpc(CLI::App& bench) {
   CLI::App& ipc = *bench.add_subcommand(
       "ipc", "One-way latency writer -> sleeping reader: shm channel (futex), UNIX socket, loopback TCP");
   ipc.add_option("--bytes", a->config.bytes, "Message bytes (default: a 541-beam scan)")
-      ->capture_default_str()->check(CLI::Range(16u, 1u << 26));
-  ipc.add_option("--messages", a->config.messages, "Messages per transport")->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(finiteRange(16u, 1u << 26));
+  ipc.add_option("--messages", a->config.messages, "Messages per transport")->capture_default_str()->check(positiveFinite());
   ipc.add_option("--warmup", a->config.warmup, "Messages sent first and not counted")->capture_default_str();
-  ipc.add_option("--period-us", a->config.period_us, "Time between messages (us)")->capture_default_str()->check(CLI::PositiveNumber);
+  ipc.add_option("--period-us", a->config.period_us, "Time between messages (us)")->capture_default_str()->check(positiveFinite());
   ipc.add_option("--spin-us", a->spin_us, "shm: the reader spins this long before FUTEX_WAIT (Reader::wait)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(nonNegativeFinite());
   ipc.add_option("--rounds", a->rounds, "Rounds in which the transports take turns (messages split among them)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(positiveFinite());
   ipc.add_flag("!--no-pin", a->pin, "Do not pin writer and reader to two CPUs");
   ipc.add_option("--rt-priority", a->config.rt_priority, "SCHED_FIFO priority of writer and reader (0: normal threads)")
-      ->capture_default_str()->check(CLI::Range(0, 99));
+      ->capture_default_str()->check(finiteRange(0, 99));
   ipc.add_flag("--json", a->json, "Print one JSON object on stdout");
   ipc.callback([a] { runBenchIpc(*a); });
 }

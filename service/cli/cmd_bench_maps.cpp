@@ -1,6 +1,8 @@
 // polyloc bench maps: the map representations side by side on one map. Per backend (factory.hpp):
 // build time, memory, rays/s for planar scans and for 3D rays, point-in-solid queries/s, range
 // error against Embree's exact intersection, and optionally MCL on a simulated scenario.
+#include "cli/parse_number.hpp"
+#include "cli/output_check.hpp"
 #include "cli/bench_maps_localize.hpp"
 #include "cli/bench_ranges.hpp"
 #include "cli/bench_timing.hpp"
@@ -146,6 +148,7 @@ std::string markdownTable(const nlohmann::json& j) {
 }
 
 void runBenchMaps(const BenchMapsArgs& a) {
+  checkOutputs({{"--map", a.map}}, {{"--markdown", a.markdown}});
   const Mesh mesh = loadMesh(a.map);
   std::vector<std::string> names;
   if (a.backends.empty()) names = casterNames();
@@ -213,17 +216,17 @@ void registerBenchMaps(CLI::App& bench) {
               "time, memory, rays/s, point queries/s, range error against Embree, optional MCL run");
   c.add_option("--map", a->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required()->check(CLI::ExistingFile);
   c.add_option("--backends", a->backends, "Comma-separated backends (default: all built)");
-  c.add_option("--rays", a->rays, "Rays per workload (planar: rays / beams poses x beams)")->capture_default_str()->check(CLI::PositiveNumber);
-  c.add_option("--beams", a->beams, "Beams of the planar fan")->capture_default_str()->check(CLI::PositiveNumber);
-  c.add_option("--resolution", a->resolution, "Cell/voxel size of grid2d, distance3d, octomap (m)")->capture_default_str()->check(CLI::PositiveNumber);
+  c.add_option("--rays", a->rays, "Rays per workload (planar: rays / beams poses x beams)")->capture_default_str()->check(positiveFinite());
+  c.add_option("--beams", a->beams, "Beams of the planar fan")->capture_default_str()->check(positiveFinite());
+  c.add_option("--resolution", a->resolution, "Cell/voxel size of grid2d, distance3d, octomap (m)")->capture_default_str()->check(positiveFinite());
   c.add_option("--height", a->height, "Sensor height of the planar rays and the grid2d slice (m)")->capture_default_str();
-  c.add_option("--threads", a->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
-  c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(CLI::PositiveNumber);
+  c.add_option("--threads", a->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(nonNegativeFinite());
+  c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
   c.add_option("--seed", a->seed, "Seed of the random rays and points")->capture_default_str();
   c.add_option("--localize", a->localize, "Scenario YAML: also run MCL with each backend on it")->check(CLI::ExistingFile);
   c.add_flag("--level-scanners", a->level_scanners,
              "MCL of every backend weighs the rig's level planar scanners only (as grid2d always does)");
-  c.add_option("--localize-duration", a->localize_duration, "Simulated seconds of the MCL run")->capture_default_str()->check(CLI::PositiveNumber);
+  c.add_option("--localize-duration", a->localize_duration, "Simulated seconds of the MCL run")->capture_default_str()->check(positiveFinite());
   c.add_option("--markdown", a->markdown, "Also write the table as Markdown to FILE");
   c.add_flag("--json", a->json, "Print one JSON object on stdout");
   c.callback([a] { runBenchMaps(*a); });

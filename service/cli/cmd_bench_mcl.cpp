@@ -1,6 +1,7 @@
 // polyloc bench mcl: measurement updates per second of the localiser on a map (N particles x B
 // beams of one planar scanner, all particles weighed, resampling included), and the rays/s of
 // the same rays cast directly through castScans in the same run, for the MCL / raycast ratio.
+#include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
 
 #include <polyloc/map/load.hpp>
@@ -138,11 +139,11 @@ void registerBenchMcl(CLI::App& bench) {
   auto args = std::make_shared<BenchMclArgs>();
   CLI::App& c = *bench.add_subcommand("mcl", "Measurement updates/s of the MCL localiser");
   c.add_option("--map", args->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required()->check(CLI::ExistingFile);
-  c.add_option("--particles", args->particles, "Particles N")->capture_default_str()->check(CLI::PositiveNumber);
-  c.add_option("--beams", args->beams, "Beams B of the planar scanner")->capture_default_str()->check(CLI::Range(2, 100000));
+  c.add_option("--particles", args->particles, "Particles N")->capture_default_str()->check(positiveFinite());
+  c.add_option("--beams", args->beams, "Beams B of the planar scanner")->capture_default_str()->check(finiteRange(2, 100000));
   c.add_option("--dof", args->dof, "3 or 6")->capture_default_str()->check(CLI::IsMember({3, 6}));
-  c.add_option("--threads", args->threads, "Worker threads T (0 = all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
-  c.add_option("--updates", args->updates, "Timed updates")->capture_default_str()->check(CLI::PositiveNumber);
+  c.add_option("--threads", args->threads, "Worker threads T (0 = all cores)")->capture_default_str()->check(nonNegativeFinite());
+  c.add_option("--updates", args->updates, "Timed updates")->capture_default_str()->check(positiveFinite());
   c.add_option("--height", args->height, "Scanner height above base (m)")->capture_default_str();
   c.add_option("--seed", args->seed, "Seed")->capture_default_str();
   c.add_option("--model", args->model, "Measurement model (mcl.model)")->capture_default_str()->check(

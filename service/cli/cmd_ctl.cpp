@@ -88,8 +88,7 @@ Request makeRequest(const CtlArgs& a) {
   if (c == "setpose") {
     want(3, 5, "setpose X Y YAW_DEG [SIGMA_XY SIGMA_YAW_DEG]");
     if (v.size() == 4) throw std::runtime_error("setpose: give both spreads (SIGMA_XY SIGMA_YAW_DEG) or neither");
-    protocol::PoseSeed seed{
-        Pose::planar(parseNumber(v[0], "X"), parseNumber(v[1], "Y"), deg2rad(parseNumber(v[2], "YAW_DEG"))), {}, {}};
+    protocol::PoseSeed seed{parseNumber(v[0], "X"), parseNumber(v[1], "Y"), deg2rad(parseNumber(v[2], "YAW_DEG")), {}, {}};
     if (v.size() == 5)
       seed.sigma_xy_m = parseNumber(v[3], "SIGMA_XY"), seed.sigma_yaw_rad = deg2rad(parseNumber(v[4], "SIGMA_YAW_DEG"));
     return {cmd::SETPOSE, protocol::encodeSeed(seed), noData};

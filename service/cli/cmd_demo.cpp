@@ -1,6 +1,8 @@
 // polyloc demo: what `make run` shows for now. Loads (or generates) the bundled lab map, prints
 // its validation summary, simulates a SICK S300 scan from a few free poses, prints the ranges
 // and draws a top view of the map slice with the rays as PNG.
+#include "cli/parse_number.hpp"
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "viz/topview.hpp"
 
@@ -53,6 +55,7 @@ std::vector<Pose> freePoses(const Mesh& mesh, const EmbreeCaster& caster, int co
 }
 
 void runDemo(const DemoArgs& a) {
+  checkOutputs({{"--map", a.map}}, {{"--out", a.out}});
   Mesh mesh;
   if (std::filesystem::exists(a.map)) {
     mesh = loadMesh(a.map);
@@ -125,7 +128,7 @@ void registerDemo(CLI::App& app) {
       "demo", "Scan the bundled lab from a few poses: map summary, ranges, PNG top view with rays");
   demo.add_option("--map", args->map, "Map file (generated in memory if missing)")->capture_default_str();
   demo.add_option("--out", args->out, "PNG to write")->capture_default_str();
-  demo.add_option("--poses", args->poses, "Number of robot poses")->capture_default_str()->check(CLI::Range(1, 16));
+  demo.add_option("--poses", args->poses, "Number of robot poses")->capture_default_str()->check(finiteRange(1, 16));
   demo.add_option("--height", args->height, "Scanner height (m)")->capture_default_str();
   demo.add_option("--seed", args->seed, "Seed for picking free poses")->capture_default_str();
   demo.callback([args] { runDemo(*args); });

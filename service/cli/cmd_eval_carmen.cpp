@@ -3,6 +3,8 @@
 // odometry and with the log's own, the floor the map allows, global localisation from random
 // test frames. A summary (or --json) on stdout, progress on stderr when it is a terminal, --plot
 // draws the map, the paths and the global starts.
+#include "cli/parse_number.hpp"
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
 #include "reloc/carmen_eval.hpp"
@@ -171,6 +173,7 @@ void save(const Args& a, const reloc::CarmenEvalResult& r) {
 }
 
 void run(Args a) {
+  checkOutputs({{"--log", a.eval.log}, {"--config", a.eval.config}}, {{"--plot", a.plot}}, {{"--save", a.save}});
   a.eval.variants.clear();
   for (size_t i = 0; i <= a.variants.size();) {
     const size_t j = std::min(a.variants.find(',', i), a.variants.size());
@@ -214,10 +217,10 @@ void run(Args a) {
       j["floor"]["by_observability"] = splitByObservability(*r.floor, r);
       j["floor"]["by_heading"] = headingJson(*r.floor);
       auto pct = [](const std::vector<double>& v) {
-        return nlohmann::json{{"p05", percentile(v, 5)}, {"p50", percentile(v, 50)}, {"p95", percentile(v, 95)}, {"max", percentile(v, 100)}};
+        return nlohmann::json{{"p01", percentile(v, 1)}, {"p05", percentile(v, 5)}, {"p50", percentile(v, 50)}, {"p95", percentile(v, 95)}, {"max", percentile(v, 100)}};
       };
       j["fit_check"] = {{"aligned", pct(r.seen_through_aligned)}, {"displaced_0_5m", pct(r.seen_through_0_5m)},
-                        {"displaced_2m", pct(r.seen_through_2m)}};
+                        {"displaced_2m", pct(r.seen_through_2m)}, {"explained_aligned", pct(r.explained_aligned)}};
       j["floor"]["seconds"] = r.floor_s;
     }
     nlohmann::json vs = nlohmann::json::object();
@@ -277,13 +280,13 @@ void registerEvalCarmen(CLI::App& eval) {
   c.add_option("--config", a->eval.config, "polyloc config (its map is ignored; default: robot.radius 0.25, rig recorded, mcl defaults)");
   c.add_option("--topic", a->eval.topic, "Scan topic (default: the log's first laser with poses)");
   c.add_option("--variants", a->variants, "Test runs: drift (corrected path + seeded drift), own (the log's ODOM), or none (global trials only)")->capture_default_str();
-  c.add_option("--every", a->eval.every, "Keep every N/2-th of the odd scans as test scans (2: all)")->capture_default_str()->check(CLI::Range(2, 100000));
-  c.add_option("--drift", a->eval.drift.translation, "Drift odometry: translation error std per metre (fraction)")->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  c.add_option("--every", a->eval.every, "Keep every N/2-th of the odd scans as test scans (2: all)")->capture_default_str()->check(finiteRange(2, 100000));
+  c.add_option("--drift", a->eval.drift.translation, "Drift odometry: translation error std per metre (fraction)")->capture_default_str()->check(finiteRange(0.0, 10.0));
   c.add_option("--seed", a->eval.seed, "Seed of the drift and the global starts")->capture_default_str();
-  c.add_option("--resolution", a->eval.mapper.resolution, "Map grid cell size, m")->capture_default_str()->check(CLI::Range(0.005, 1.0));
-  c.add_option("--global-trials", a->eval.global_trials, "Global localisation trials (0: none)")->capture_default_str()->check(CLI::Range(0, 10000));
-  c.add_option("--global-updates", a->eval.global_updates, "Updates after which a global trial must be within tolerance")->capture_default_str()->check(CLI::Range(1, 100000));
-  c.add_option("--restamp", a->eval.restamp_hz, "Rate at which runs whose stamps do not increase are restamped by order (Hz)")->capture_default_str()->check(CLI::Range(1e-3, 1e9));
+  c.add_option("--resolution", a->eval.mapper.resolution, "Map grid cell size, m")->capture_default_str()->check(finiteRange(0.005, 1.0));
+  c.add_option("--global-trials", a->eval.global_trials, "Global localisation trials (0: none)")->capture_default_str()->check(finiteRange(0, 10000));
+  c.add_option("--global-updates", a->eval.global_updates, "Updates after which a global trial must be within tolerance")->capture_default_str()->check(finiteRange(1, 100000));
+  c.add_option("--restamp", a->eval.restamp_hz, "Rate at which runs whose stamps do not increase are restamped by order (Hz)")->capture_default_str()->check(finiteRange(1e-3, 1e9));
   c.add_flag("--no-floor", [a](int64_t) { a->eval.floor = false; }, "Skip the floor (alignment of every test scan)");
   c.add_option("--plot", a->plot, "PNG of the map, truth, estimates, odometry and global starts");
   c.add_option("--save", a->save, "Folder for the map (OBJ, grid), the test runs (MCAP), their estimates (TUM, CSV) and the truth");

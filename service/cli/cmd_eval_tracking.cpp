@@ -2,6 +2,8 @@
 // (kernels/eval/tracking_quality.hpp): motion detection and Kalman tracking on its level planar
 // scanners, scored with CLEAR-MOT against the people walking in it. A summary (or --json) on
 // stdout, progress on stderr when it is a terminal; --plot draws tracks against the truth.
+#include "cli/parse_number.hpp"
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
 #include "viz/tracking_plot.hpp"
@@ -58,6 +60,7 @@ void plot(const Args& a, const Mesh& map, const TrackingQuality& q) {
 }
 
 void run(const Args& a) {
+  checkOutputs({{"--scenario", a.scenario}}, {{"--plot", a.plot}});
   Scenario s = loadScenario(a.scenario);
   if (a.seed >= 0) s.seed = uint64_t(a.seed);
   const Mesh map = loadScenarioMap(s);
@@ -111,12 +114,12 @@ void registerEvalTracking(CLI::App& eval) {
   c.add_flag("--odometry", a->eval.odometry, "Poses from the simulated wheel odometry instead of the ground truth");
   c.add_option("--tracking", a->tracking, "YAML file whose tracking: section replaces the scenario config's")
       ->check(CLI::ExistingFile);
-  c.add_option("--duration", a->eval.duration, "Seconds simulated (default: the scenario's)");
+  c.add_option("--duration", a->eval.duration, "Seconds simulated (default: the scenario's)")->check(finiteRange(0.0, 1e6));
   c.add_option("--seed", a->seed, "Overrides the scenario's seed");
-  c.add_option("--match-distance", a->eval.match_distance, "CLEAR-MOT match threshold, m")->capture_default_str();
-  c.add_option("--min-beams", a->eval.min_beams, "Beams on a person for them to be visible")->capture_default_str();
-  c.add_option("--range", a->eval.range, "m: people only count within this range of a scanner")->capture_default_str();
-  c.add_option("--min-speed", a->eval.min_speed, "m/s: slower people are don't-care")->capture_default_str();
+  c.add_option("--match-distance", a->eval.match_distance, "CLEAR-MOT match threshold, m")->capture_default_str()->check(finiteRange(1e-3, 100.0));
+  c.add_option("--min-beams", a->eval.min_beams, "Beams on a person for them to be visible")->capture_default_str()->check(finiteRange(0, 1e6));
+  c.add_option("--range", a->eval.range, "m: people only count within this range of a scanner")->capture_default_str()->check(finiteRange(0.0, 1e4));
+  c.add_option("--min-speed", a->eval.min_speed, "m/s: slower people are don't-care")->capture_default_str()->check(finiteRange(0.0, 100.0));
   c.add_option("--forget-after", a->eval.forget_after, "s out of view after which a new track is a re-entry, not a switch")
       ->capture_default_str();
   c.add_option("--plot", a->plot, "PNG of tracks against the true paths");

@@ -1,6 +1,7 @@
 // polyloc info FILE: what a recording holds (format, time span, topics with types, counts and
 // rates) and what was wrong in it. Reads every message once, so the rejected count and the
 // warnings are those of a full read; --quick reports from the file's index/summary only.
+#include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
 
 #include <polyloc/io/recording.hpp>
@@ -138,7 +139,7 @@ void registerInfo(CLI::App& app) {
   cmd->add_flag("--json", args->json, "Print one JSON object on stdout");
   cmd->add_flag("--quick", args->quick, "Use the file's index or summary only; skip the full read that counts bad records and checks stamps");
   cmd->add_option("--restamp", args->restamp_hz, "Restamp every message by its order in the recording at this rate (Hz)")
-      ->check(CLI::Range(1e-3, 1e9));
+      ->check(finiteRange(1e-3, 1e9));
   cmd->callback([args] {
     const Summary s = summarise(*args);
     if (args->json)

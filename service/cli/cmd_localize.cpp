@@ -2,6 +2,7 @@
 // and writes the estimate after every measurement update as TUM; with ground truth (the
 // recording's /ground_truth or --ground-truth) it reports the accuracy (kernels/eval).
 // Progress on stderr when it is a terminal; a summary (or --json) on stdout.
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
 #include "cli/parse_number.hpp"
@@ -9,6 +10,7 @@
 #include "reloc/recording_job.hpp"
 #include "reloc/report.hpp"
 
+#include <polyloc/geometry/domain.hpp>
 #include <polyloc/config/polyloc_config.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/map/load.hpp>
@@ -53,6 +55,8 @@ void progressBar(double f, uint64_t updates) {
 void runLocalize(const LocalizeArgs& a) {
   const auto t_start = Clock::now();
   if (a.global && !a.init.empty()) throw std::runtime_error("--init and --global exclude each other");
+  checkOutputs({{"--input", a.input}, {"--map", a.map}, {"--config", a.config}, {"--ground-truth", a.ground_truth}},
+               {{"--out", a.out}, {"--plot", a.plot}, {"--csv", a.csv}});
   // The recording first: a missing or unreadable input fails before the slow map load.
   openRecording(a.input);
   PolylocConfig cfg = loadConfig(a.config, {.map_optional = !a.map.empty(), .recorded_rig = true});
@@ -69,6 +73,8 @@ void runLocalize(const LocalizeArgs& a) {
     const auto v = numbers(a.init, "--init");
     if (v.size() != 3 && v.size() != 4) throw std::runtime_error("--init: expected x,y,z,yaw (or x,y,yaw), yaw in degrees");
     const double z = v.size() == 4 ? v[2] : 0.0;
+    if (auto why = domain::checkPlanar(v[0], v[1], deg2rad(v.back()), mesh.bounds()))
+      throw std::runtime_error(fmt::format("--init: {} (the map covers {})", *why, domain::describeArea(mesh.bounds())));
     jo.start = reloc::StartMode::Pose;
     jo.start_pose = Pose::fromXYZRPY(v[0], v[1], z, 0, 0, deg2rad(v.back()));
   } else if (a.global) {
@@ -129,7 +135,11 @@ void runLocalize(const LocalizeArgs& a) {
   fmt::print("rejected   {} scans ({} wrong size, {} unknown sensor), {} odometry out of order, {} bad records\n",
              c.at("scans_rejected"), c.at("scans_wrong_size"), c.at("scans_unknown_sensor"),
              c.at("odometry_out_of_order"), c.at("records_rejected"));
-  if (metrics) {
+  if (metrics && metrics->all.frames == 0) {
+    // No estimate falls within the truth's time span: say so rather than print ATE nan.
+    fmt::print("accuracy   none: no estimate lies within the ground truth's time span ({} estimates, {} truth poses; "
+               "different clocks? --restamp, or a truth file of this run)\n", r.frames.size(), r.truth.size());
+  } else if (metrics) {
     const auto& s = metrics->all;
     fmt::print("accuracy   {} frames: ATE {:.3f} m, p95 {:.3f} m, yaw RMSE {:.2f} deg, p95 {:.2f} deg, z RMSE {:.3f} m, "
                "roll/pitch RMSE {:.2f} deg\n", s.frames, s.ate_rmse_m, s.p95_pos_err_m, s.yaw_rmse_deg,
@@ -159,7 +169,7 @@ void registerLocalize(CLI::App& app) {
   cmd.add_option("--init-sigma", args->init_sigma, "Start spread xy_m,yaw_deg for --init and ground-truth starts")->capture_default_str();
   cmd.add_option("--ground-truth", args->ground_truth, "Ground truth as TUM (default: the recording's /ground_truth)");
   cmd.add_option("--restamp", args->restamp_hz, "Restamp every message by its order in the recording at this rate (Hz), for logs whose stamps do not increase")
-      ->check(CLI::Range(1e-3, 1e9));
+      ->check(finiteRange(1e-3, 1e9));
   cmd.add_option("--sensors", args->sensors, "Rig sensors whose frames are used, comma-separated (default: all; the filter also weighs only the config's mcl.sensors)");
   cmd.add_option("--out", args->out, "Write the estimate after each update as TUM");
   cmd.add_option("--plot", args->plot, "Draw map, ground truth, estimate and particle clouds as PNG");

@@ -2,6 +2,8 @@
 // cells on a floor slab (kernels/map/extrude.hpp), validated before it is saved. The grid is a ROS
 // map_server grid (YAML + PGM/PNG) or is built from a CARMEN log with known laser poses
 // (kernels/map/recording_grid.hpp).
+#include "cli/parse_number.hpp"
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 
 #include <polyloc/io/recording.hpp>
@@ -78,6 +80,7 @@ void drawExtrusion(const OccupancyGrid& grid, const Mesh& mesh, const std::vecto
 }
 
 void run(const MapExtrudeArgs& a) {
+  checkOutputs({{"--grid", a.grid}, {"--carmen", a.carmen}}, {{"--out", a.out}, {"--save-grid", a.save_grid}, {"--plot", a.plot}});
   nlohmann::json j;
   std::vector<std::array<float, 2>> path;  // --carmen: laser positions of the scans used
   const OccupancyGrid grid = a.grid.empty() ? gridFromCarmen(a, j, path) : loadGridMap(a.grid);
@@ -123,15 +126,15 @@ void registerMapExtrude(CLI::App& map) {
   auto* grid = c->add_option("--grid", a->grid, "map_server YAML (image, resolution, origin, thresholds, negate)")->check(CLI::ExistingFile);
   auto* carmen = c->add_option("--carmen", a->carmen, "CARMEN log (plain or gzip) whose FLASER/RLASER/ROBOTLASER1 laser poses are known (corrected)")->check(CLI::ExistingFile);
   grid->excludes(carmen);
-  c->add_option("--resolution", a->mapper.resolution, "--carmen: grid cell size (m)")->capture_default_str()->check(CLI::PositiveNumber);
+  c->add_option("--resolution", a->mapper.resolution, "--carmen: grid cell size (m)")->capture_default_str()->check(positiveFinite());
   c->add_option("--laser", a->laser, "--carmen: which lasers to map")->capture_default_str()->check(CLI::IsMember({"front", "rear", "robot", "all"}));
   c->add_option("--scans", a->scans, "--carmen: which scans (in file order, per laser): all, or even / odd (the real-log protocol maps the even ones)")
       ->capture_default_str()->check(CLI::IsMember({"all", "even", "odd"}));
-  c->add_option("--max-range", a->mapper.max_range, "--carmen: beams at or beyond this (m) only clear free space")->capture_default_str()->check(CLI::PositiveNumber);
+  c->add_option("--max-range", a->mapper.max_range, "--carmen: beams at or beyond this (m) only clear free space")->capture_default_str()->check(positiveFinite());
   c->add_option("--save-grid", a->save_grid, "--carmen: also save the built grid as map_server YAML + PGM");
   c->add_option("--out", a->out, "Output map (.obj, .ply, .stl, .gltf, .glb, .dae)")->required();
-  c->add_option("--height", a->options.height, "Wall height (m)")->capture_default_str()->check(CLI::PositiveNumber);
-  c->add_option("--floor-thickness", a->options.floor_thickness, "Floor slab under the grid (m; 0 = none)")->capture_default_str()->check(CLI::NonNegativeNumber);
+  c->add_option("--height", a->options.height, "Wall height (m)")->capture_default_str()->check(positiveFinite());
+  c->add_option("--floor-thickness", a->options.floor_thickness, "Floor slab under the grid (m; 0 = none)")->capture_default_str()->check(nonNegativeFinite());
   c->add_flag("--unknown-occupied", a->options.unknown_is_occupied, "Unknown cells become walls too");
   // Merging is the default; the flag spells it out, --no-merge makes one box per cell.
   c->add_flag("--resolution-merge", [](int64_t) {}, "Merge runs of cells into boxes (default)");

@@ -1,5 +1,6 @@
 // polyloc map generate lab|office --out FILE: writes a bundled map (maps/generator) to a file
 // whose extension picks the format, and prints a one-line summary to stderr.
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 
 #include <polyloc/map/load.hpp>
@@ -26,6 +27,7 @@ void registerMapGenerate(CLI::App& map) {
                   "Output file; the extension picks the format (.obj .ply .stl .gltf .glb .dae)")
       ->required();
   cmd->callback([args] {
+    checkOutputs({}, {{"--out", args->out}});
     const Mesh mesh = generateMap(args->name);
     saveMesh(mesh, args->out);
     const Eigen::AlignedBox3f b = mesh.bounds();

@@ -1,4 +1,5 @@
 // polyloc map info FILE: load a polygon map and report what validation finds.
+#include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
 
 #include <polyloc/map/load.hpp>
@@ -61,7 +62,7 @@ void registerMapInfo(CLI::App& map) {
   cmd->add_option("file", args->file, "Map file")->required();
   cmd->add_option("--scale", args->scale, "Multiply coordinates, e.g. 0.001 for a file in mm")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveFinite());
   cmd->add_option("--up-axis", args->up_axis, "The file's up axis: auto (glTF y, DAE as declared, others z), z, y or x")
       ->capture_default_str()
       ->check(CLI::IsMember({"z", "y", "x"}, CLI::ignore_case));

@@ -4,6 +4,8 @@
 // its odometry. Writes DIR/perception.mcap (/vrs, /vrs/localization as LaserScan in base_link,
 // /tracks as polyloc_msgs/TrackArray in map), PNG snapshots, and with the simulator's ground-truth
 // topics scores VRS and tracking (docs/vrs.md, docs/tracking.md).
+#include "cli/parse_number.hpp"
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "reloc/topic_router.hpp"
 #include "viz/topview.hpp"
@@ -123,6 +125,7 @@ struct PeopleTruth {
 void runPerceive(const PerceiveArgs& a) {
   const auto t_start = Clock::now();
   if (a.pose != "ground_truth" && a.pose != "odometry") throw std::runtime_error("--pose must be ground_truth or odometry");
+  checkOutputs({{"--input", a.input}, {"--config", a.config}}, {}, {{"--out", a.out}});
   auto reader = openRecording(a.input);
   const PolylocConfig cfg = loadConfig(a.config);
   const Mesh map = loadMesh(cfg.map.file, cfg.map.load);
@@ -328,8 +331,8 @@ void registerPerceive(CLI::App& app) {
   c->add_option("--config", a->config, "polyloc config (map, robot, rig, vrs, tracking)")->required()->check(CLI::ExistingFile);
   c->add_option("--out", a->out, "Output directory: perception.mcap and PNG snapshots")->required();
   c->add_option("--pose", a->pose, "Robot pose: ground_truth (the recording's /ground_truth) or odometry")->capture_default_str();
-  c->add_option("--snapshots", a->snapshots, "PNG snapshots spread over the run")->capture_default_str();
-  c->add_option("--vrs-reach", a->vrs_reach, "m: segments scored against /ground_truth/vrs")->capture_default_str();
+  c->add_option("--snapshots", a->snapshots, "PNG snapshots spread over the run")->capture_default_str()->check(finiteRange(0, 10000));
+  c->add_option("--vrs-reach", a->vrs_reach, "m: segments scored against /ground_truth/vrs")->capture_default_str()->check(finiteRange(0.0, 1e4));
   c->add_flag("--json", a->json, "Summary as one JSON object on stdout");
   c->callback([a] { runPerceive(*a); });
 }

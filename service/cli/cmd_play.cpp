@@ -3,6 +3,8 @@
 // restamped to the wall clock, and watches what comes back: pose (error against the ground
 // truth the source carries), latency from scan to pose, rates, and what polylocd dropped or
 // rejected. Status on stderr; a summary (--json) on stdout; --plot draws the trajectories.
+#include "cli/parse_number.hpp"
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "reloc/report.hpp"
 #include "cli/play_feed.hpp"
@@ -35,6 +37,7 @@ struct PlayArgs {
 void runPlay(const PlayArgs& a) {
   if (a.input.empty() == a.scenario.empty()) throw std::runtime_error("give --input RUN or --scenario FILE (one of them)");
   if (!(a.rate > 0)) throw std::runtime_error("--rate must be > 0");
+  checkOutputs({{"--input", a.input}, {"--scenario", a.scenario}, {"--map", a.map}}, {{"--plot", a.plot}});
   std::unique_ptr<PlaySource> src = a.input.empty() ? playScenario(a.scenario, a.duration) : playRecording(a.input);
   PlayFeed feed(a.shm, a.wait);
   if (a.rate != 1.0)
@@ -114,6 +117,13 @@ void runPlay(const PlayArgs& a) {
     fmt::print("play: {} messages sent, {} poses back, latency p50 {:.2f} ms p99 {:.2f} ms, {} frames dropped, {} rejected{}\n",
                r.sent, r.estimates.size(), r.latency_p50_ms, r.latency_p99_ms, r.dropped, r.rejected,
                metrics ? fmt::format(", ATE {:.3f} m", metrics->all.ate_rmse_m) : std::string());
+  // The summary is printed either way; the exit status says whether polylocd took part.
+  if (!r.answered)
+    throw std::runtime_error(fmt::format("polylocd '{}' never answered: no pose and no health frame came back "
+                                         "(is it running and reading this segment? its log says why)", a.shm));
+  if (!r.up_at_end)
+    throw std::runtime_error(fmt::format("polylocd '{}' stopped during the run: {} messages were not delivered",
+                                         a.shm, r.undelivered));
 }
 
 }  // namespace
@@ -124,9 +134,9 @@ void registerPlay(CLI::App& app) {
   c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag or CARMEN log")->check(CLI::ExistingPath);
   c->add_option("--scenario", a->scenario, "Scenario (maps/scenarios/*.yaml), simulated live")->check(CLI::ExistingFile);
   c->add_option("--shm", a->shm, "polylocd instance (segment /polyloc.NAME)")->required();
-  c->add_option("--rate", a->rate, "Playback speed (1: real time)")->capture_default_str();
-  c->add_option("--duration", a->duration, "s: stop after this much of the source (0: all)")->capture_default_str();
-  c->add_option("--wait", a->wait, "s to wait for polylocd's segment to appear")->capture_default_str();
+  c->add_option("--rate", a->rate, "Playback speed (1: real time)")->capture_default_str()->check(finiteRange(1e-3, 1e3));
+  c->add_option("--duration", a->duration, "s: stop after this much of the source (0: all)")->capture_default_str()->check(finiteRange(0.0, 1e7));
+  c->add_option("--wait", a->wait, "s to wait for polylocd's segment to appear")->capture_default_str()->check(finiteRange(0.0, 3600.0));
   c->add_option("--plot", a->plot, "PNG of map, ground truth and the poses polylocd published");
   c->add_option("--map", a->map, "Mesh for --plot when playing a recording");
   c->add_flag("--loop", a->loop, "Start the source again at its end, until --duration (soak tests)");

@@ -2,6 +2,7 @@
 // side by side with TBB (--jobs) and across MPI ranks (mpirun -np K polyloc relocalize ...);
 // rank 0 merges into DIR/<name>/{trajectory.tum,frames.csv,plot.png,summary.json} and
 // DIR/summary.json (docs/relocalize.md). Exit 1 when any input did not run whole.
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "cli/parse_number.hpp"
 #include "reloc/batch_merge.hpp"
@@ -38,6 +39,9 @@ void runRelocalize(RelocalizeArgs& a) {
   const auto t_start = Clock::now();
   reloc::BatchOptions& o = a.batch;
   if (o.jobs < 1) throw std::runtime_error("--jobs: must be >= 1");
+  std::vector<PathArg> ins{{"--map", a.map}, {"--config", a.config}};
+  for (const auto& in : o.inputs) ins.push_back({"--input", in});
+  checkOutputs(ins, {}, {{"--out", o.out_dir}});
   if (o.segment_s < 0 || o.warmup_s < 0) throw std::runtime_error("--segment and --warmup: must be >= 0");
   if (a.covariance == "full") o.covariance = reloc::CsvCovariance::Full;
   else if (a.covariance != "diag") throw std::runtime_error("--covariance: diag or full");
@@ -129,13 +133,13 @@ void registerRelocalize(CLI::App& app) {
   cmd.add_option("--out", b.out_dir, "Output folder: <name>/ per input and summary.json")->required();
   cmd.add_option("--map", args->map, "Polygon map (default: the config's)");
   cmd.add_flag("--global", b.global, "Global localisation everywhere (default: the first ground-truth pose, if any)");
-  cmd.add_option("--jobs", b.jobs, "Recordings (or segments) side by side in this process")->capture_default_str();
-  cmd.add_option("--threads", b.threads, "TBB threads of this process (default: --jobs)");
-  cmd.add_option("--segment", b.segment_s, "Split recordings into segments of this many seconds (0: whole)")->capture_default_str();
-  cmd.add_option("--warmup", b.warmup_s, "Seconds the filter runs before each segment but the first")->capture_default_str();
+  cmd.add_option("--jobs", b.jobs, "Recordings (or segments) side by side in this process")->capture_default_str()->check(finiteRange(1, 4096));
+  cmd.add_option("--threads", b.threads, "TBB threads of this process (default: --jobs)")->check(finiteRange(0, 4096));
+  cmd.add_option("--segment", b.segment_s, "Split recordings into segments of this many seconds (0: whole)")->capture_default_str()->check(finiteRange(0.0, 1e7));
+  cmd.add_option("--warmup", b.warmup_s, "Seconds the filter runs before each segment but the first")->capture_default_str()->check(finiteRange(0.0, 1e7));
   cmd.add_option("--covariance", args->covariance, "CSV covariance columns: diag or full")->capture_default_str();
   cmd.add_option("--restamp", b.base.restamp_hz, "Restamp every message by its order in the recording at this rate (Hz), for logs whose stamps do not increase")
-      ->check(CLI::Range(1e-3, 1e9));
+      ->check(finiteRange(1e-3, 1e9));
   cmd.add_option("--sensors", args->sensors, "Rig sensors whose frames are used, comma-separated (default: all; the filter also weighs only the config's mcl.sensors)");
   cmd.add_flag("--json", args->json, "Print the summary (DIR/summary.json) as one JSON object");
   cmd.callback([args] { runRelocalize(*args); });

@@ -1,6 +1,8 @@
 // polyloc simulate: runs a scenario (kernels/sim) and records it as MCAP (*.mcap) or as a ROS 2
 // bag directory (anything else); optionally a TUM ground-truth file and a PNG of the run.
 // Progress on stderr when it is a terminal; a summary (or --json) on stdout.
+#include "cli/parse_number.hpp"
+#include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
 #include "viz/sim_plot.hpp"
@@ -65,6 +67,9 @@ void progressBar(double f, double sim_s) {
 
 void runSimulate(const SimulateArgs& a) {
   if (a.out.empty() && !a.no_output) throw std::runtime_error("--out is required");
+  const bool mcap = a.out.size() > 5 && a.out.substr(a.out.size() - 5) == ".mcap";
+  checkOutputs({{"--scenario", a.scenario}}, {{"--out", mcap ? a.out : ""}, {"--ground-truth", a.ground_truth}, {"--plot", a.plot}},
+               {{"--out", mcap ? "" : a.out}});
   Scenario scenario = loadScenario(a.scenario);
   if (a.seed >= 0) scenario.seed = static_cast<uint64_t>(a.seed);
   if (a.duration > 0) scenario.duration = a.duration;
@@ -193,8 +198,8 @@ void registerSimulate(CLI::App& app) {
       "simulate", "Simulate a scenario: sensors, odometry and ground truth as MCAP or a ROS 2 bag");
   cmd.add_option("--scenario", args->scenario, "Scenario YAML (maps/scenarios/*.yaml)")->required()->check(CLI::ExistingFile);
   cmd.add_option("--out", args->out, "Recording to write: *.mcap, otherwise a ROS 2 bag directory");
-  cmd.add_option("--seed", args->seed, "Random seed (default: the scenario's)")->check(CLI::NonNegativeNumber);
-  cmd.add_option("--duration", args->duration, "Simulated seconds (default: the scenario's)")->check(CLI::PositiveNumber);
+  cmd.add_option("--seed", args->seed, "Random seed (default: the scenario's)")->check(nonNegativeFinite());
+  cmd.add_option("--duration", args->duration, "Simulated seconds (default: the scenario's)")->check(positiveFinite());
   cmd.add_option("--ground-truth", args->ground_truth, "Also write the ground truth as a TUM file");
   cmd.add_option("--plot", args->plot, "Draw the run as PNG: map, paths, one frame of every sensor");
   cmd.add_option("--plot-time", args->plot_time, "Time (s) of the sensor frames in the plot (default: middle)");

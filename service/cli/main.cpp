@@ -29,7 +29,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help exits 0; a usage error (unknown option, bad value) exits 2, as Unix tools do
+    // (CLI11's own codes, 106 and the like, are documented nowhere a user looks).
+    return app.exit(e) == 0 ? 0 : 2;
   } catch (const std::exception& e) {
     fmt::print(stderr, "polyloc: error: {}\n", e.what());
     return 1;

@@ -39,37 +39,64 @@ void add(std::map<std::string, uint64_t>& to, const std::map<std::string, uint64
 }  // namespace
 
 PlayFeed::PlayFeed(const std::string& instance, double wait_s) : instance_(instance), wait_s_(wait_s) {
-  attach();
+  if (!attach(wait_s_)) {
+    shm::Segment::attach(instance_);  // throws, naming the segment and why
+    throw std::runtime_error(fmt::format("polylocd '{}' has stopped (segment {} says STOPPED): start it first",
+                                         instance_, shm::segmentName(instance_)));
+  }
+  up_ = true;
   base_ns_ = realtimeNs();
 }
 
 PlayFeed::~PlayFeed() = default;
 
-void PlayFeed::attach() {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s_);
+bool PlayFeed::attach(double wait_s) {
+  if (feed_) feed_->flush(), sent_before_ += feed_->sent(), add(per_channel_before_, feed_->perChannel());
+  feed_.reset();
+  pose_reader_.reset(), health_reader_.reset();
+  seg_.reset();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s);
   for (;;) {
     try {
-      if (feed_) feed_->flush(), sent_before_ += feed_->sent(), add(per_channel_before_, feed_->perChannel());
-      feed_.reset();
-      pose_reader_.reset(), health_reader_.reset();
-      seg_.reset();
       seg_.emplace(shm::Segment::attach(instance_));
-      break;
-    } catch (const shm::ShmError& e) {
-      if (std::chrono::steady_clock::now() > deadline) throw;
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      if (seg_->header().state == POLYLOC_STATE_READY) break;
+      seg_.reset();  // stopped: a daemon that ended, or one whose start failed
+    } catch (const shm::ShmError&) {
     }
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   feed_ = std::make_unique<pipeline::MessageFeed>(*seg_);
   if (const int p = seg_->find("pose"); p >= 0) pose_reader_ = std::make_unique<shm::Reader>(*seg_, p, shm::Reader::Start::Next);
   if (const int p = seg_->find("health"); p >= 0) health_reader_ = std::make_unique<shm::Reader>(*seg_, p, shm::Reader::Start::Newest);
+  return true;
+}
+
+// About twice a second (stale() costs system calls): a daemon that stopped or restarted is
+// re-attached; one message per change of state, not per message sent.
+void PlayFeed::watch() {
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_check_) return;
+  next_check_ = now + std::chrono::milliseconds(500);
+  if (up_ && !seg_->stale()) return;
+  const bool was_up = up_;
+  up_ = attach(0);
+  if (up_ && was_up) {
+    ++r_.reattached;
+    fmt::print(stderr, "\npolyloc play: polylocd '{}' restarted: re-attached (generation {})\n", instance_, seg_->generation());
+  } else if (up_) {
+    ++r_.reattached;
+    fmt::print(stderr, "\npolyloc play: polylocd '{}' is back (generation {}): sending again\n", instance_, seg_->generation());
+  } else if (was_up) {
+    fmt::print(stderr, "\npolyloc play: polylocd '{}' stopped or died: messages are not delivered until it is back\n", instance_);
+  }
 }
 
 void PlayFeed::send(const RecordedMessage& m, int64_t offset_ns, int64_t first_log_ns) {
-  if (seg_->stale()) {
-    fmt::print(stderr, "\npolyloc play: polylocd '{}' restarted or stopped: re-attaching\n", instance_);
-    attach();
-    ++r_.reattached;
+  watch();
+  if (!up_) {
+    ++r_.undelivered;
+    return;
   }
   const int64_t shift = base_ns_ - first_log_ns + offset_ns;
   if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
@@ -108,10 +135,14 @@ void PlayFeed::poll() {
     if (auto f = health_reader_->newest(buf_); f && buf_.size() >= sizeof(polyloc_health)) {
       health_.emplace();
       std::memcpy(&*health_, buf_.data(), sizeof(polyloc_health));
+      input_names_.clear();  // inputs are the first channels of the table, in order (docs/interface.md)
+      for (uint32_t i = 0; i < health_->inputs && i < POLYLOC_MAX_INPUTS && int(i) < seg_->channelCount(); ++i)
+        input_names_.emplace_back(seg_->channel(int(i)).name, strnlen(seg_->channel(int(i)).name, POLYLOC_NAME_LEN));
     }
 }
 
 void PlayFeed::finish() {
+  if (!feed_) return;
   feed_->flush();
   // The last frames are still in the pipeline: give polylocd a moment, and its health a beat.
   const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
@@ -156,12 +187,15 @@ PlayResult PlayFeed::result() const {
     r.latency_max_ms = *std::max_element(r.latency_ms.begin(), r.latency_ms.end());
   }
   if (health_) std::tie(r.dropped, r.rejected) = lostFrames(*health_);
+  r.answered = health_.has_value() || !r.estimates.empty();
+  r.up_at_end = up_;
   return r;
 }
 
 nlohmann::json PlayFeed::resultJson() const {
   const PlayResult r = result();
   nlohmann::json j = {{"instance", instance_}, {"sent", r.sent}, {"late", r.late}, {"reattached", r.reattached},
+                      {"undelivered", r.undelivered}, {"answered", r.answered},
                       {"per_channel", r.per_channel}, {"skipped_topics", r.skipped}, {"poses", r.estimates.size()},
                       {"latency_ms", {{"p50", r.latency_p50_ms}, {"p99", r.latency_p99_ms}, {"max", r.latency_max_ms}}},
                       {"dropped", r.dropped}, {"rejected", r.rejected}, {"poses_missed", r.poses_missed}};
@@ -170,13 +204,15 @@ nlohmann::json PlayFeed::resultJson() const {
     for (uint32_t i = 0; i < health_->inputs && i < POLYLOC_MAX_INPUTS; ++i) {
       const auto& h = health_->input[i];
       // Inputs are the first channels of the table, in order (docs/interface.md).
-      inputs[seg_->channel(int(i)).name] = {{"taken", h.taken}, {"overruns", h.overruns}, {"nan", h.rejected_nan},
+      inputs[input_names_.at(i)] = {{"taken", h.taken}, {"overruns", h.overruns}, {"nan", h.rejected_nan},
                                             {"size", h.rejected_size}, {"stale", h.rejected_stale},
-                                            {"future", h.rejected_future}, {"silent", bool(h.silent)}};
+                                            {"future", h.rejected_future}, {"silent", bool(h.silent)},
+                                            {"map_fit", h.map_fit_permille == 0
+                                                            ? nlohmann::json(nullptr) : nlohmann::json(h.map_fit_permille / 1000.0)}};
     }
     j["polylocd"] = {{"cycles", health_->cycles}, {"poses", health_->poses}, {"vrs", health_->vrs},
                      {"tracks", health_->tracks}, {"cycle_p50_ms", health_->cycle_p50_ms},
-                     {"cycle_p99_ms", health_->cycle_p99_ms}, {"inputs", inputs}};
+                     {"cycle_p99_ms", health_->cycle_p99_ms}, {"unfit", bool(health_->flags & 4u)}, {"inputs", inputs}};
   }
   return j;
 }

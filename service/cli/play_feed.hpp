@@ -31,6 +31,9 @@ struct PlayResult {
   uint64_t dropped = 0;   // polylocd: frames overwritten before it read them (health overruns)
   uint64_t rejected = 0;  // polylocd: frames it rejected (health)
   uint64_t poses_missed = 0;  // poses this reader missed (overruns of its pose reader)
+  uint64_t undelivered = 0;   // messages not sent: polylocd was stopped or gone
+  bool answered = false;      // a pose or a health frame came back
+  bool up_at_end = true;      // polylocd was running when the source ended
 };
 
 class PlayFeed {
@@ -49,8 +52,12 @@ class PlayFeed {
   nlohmann::json resultJson() const;
 
  private:
-  void attach();
+  bool attach(double wait_s);  // false: no running polylocd within wait_s
+  void watch();
 
+  bool up_ = false;
+  std::chrono::steady_clock::time_point next_check_{};
+  std::vector<std::string> input_names_;  // of the health entries, read with them
   std::string instance_;
   double wait_s_;
   std::optional<shm::Segment> seg_;

@@ -1,14 +1,19 @@
 #include "pipeline/control.hpp"
 
+#include "pipeline/seed_check.hpp"
 #include "pipeline/shm_payloads.hpp"
+
+#include <polyloc/geometry/domain.hpp>
+#include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <limits>
 
 namespace polyloc::pipeline {
 
-DaemonControl::DaemonControl(LiveState& live, const ServiceConfig& config, std::vector<std::string> input_names)
-    : live_(live), cfg_(config), inputs_(std::move(input_names)) {
+DaemonControl::DaemonControl(LiveState& live, const ServiceConfig& config, std::vector<std::string> input_names,
+                             const Eigen::AlignedBox3f& map)
+    : live_(live), cfg_(config), inputs_(std::move(input_names)), map_(map) {
   const Rig& rig = cfg_.polyloc.rig;
   for (size_t k = 0; k < rig.size(); ++k)
     if (std::holds_alternative<PlanarScannerSpec>(rig.sensors[k].spec)) scanners_.push_back(k);
@@ -33,8 +38,12 @@ protocol::Status DaemonControl::setPose(const protocol::PoseSeed& seed) {
   // The defaults of a seed without spreads: polylocd.init's, else 0.1 m and 5 deg.
   const InitPose def = cfg_.daemon.init.value_or(InitPose{});
   const double sxy = seed.sigma_xy_m.value_or(def.sigma_xy), syaw = seed.sigma_yaw_rad.value_or(def.sigma_yaw);
+  if (const auto why = seedProblem(seed, sxy, syaw, map_)) {
+    spdlog::warn("SETPOSE refused: {} (the map covers {})", *why, domain::describeArea(map_));
+    return protocol::Status::BadArgument;
+  }
   PoseRequest r;
-  r.pose = seed.pose;
+  r.pose = seed.pose();
   r.covariance = Eigen::Matrix<double, 6, 6>::Zero();
   r.covariance.diagonal() << sxy * sxy, sxy * sxy, 0.02 * 0.02, 3e-4, 3e-4, syaw * syaw;
   live_.requestPose(r);

@@ -8,6 +8,7 @@
 #include "pipeline/live_state.hpp"
 #include "protocol/handler.hpp"
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <mutex>
 #include <vector>
@@ -17,7 +18,9 @@ namespace polyloc::pipeline {
 class DaemonControl final : public protocol::ControlHandler {
  public:
   // input_names: the input channels in health order.
-  DaemonControl(LiveState& live, const ServiceConfig& config, std::vector<std::string> input_names);
+  // map: the map's bounding box; SETPOSE beyond it plus domain::kMapMargin is bad_argument.
+  DaemonControl(LiveState& live, const ServiceConfig& config, std::vector<std::string> input_names,
+                const Eigen::AlignedBox3f& map);
 
   std::optional<protocol::PoseReport> pose() override;
   protocol::Status setPose(const protocol::PoseSeed& seed) override;
@@ -33,6 +36,7 @@ class DaemonControl final : public protocol::ControlHandler {
   LiveState& live_;
   const ServiceConfig& cfg_;
   std::vector<std::string> inputs_;
+  Eigen::AlignedBox3f map_;
   std::vector<size_t> scanners_;  // rig indices of scanners()[1..]
   uint32_t vrs_segments_ = 0;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();

@@ -5,6 +5,7 @@
 #include "shm/channel.hpp"
 #include "shm/validate.hpp"
 
+#include <polyloc/geometry/domain.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
@@ -38,6 +39,7 @@ struct Taken {
 struct Daemon::Impl final : PipelineSink {
   Daemon& d;
   Mesh map;
+  Eigen::AlignedBox3f bounds;
   std::unique_ptr<EmbreeCaster> caster;
   std::unique_ptr<RayCaster> weigh;  // mcl.caster when not embree
   std::unique_ptr<Pipeline> pipe;
@@ -60,8 +62,21 @@ struct Daemon::Impl final : PipelineSink {
 
   Impl(Daemon& daemon, shm::Segment s)
       : d(daemon), seg(std::move(s)), arena(d.cfg_.daemon.threads > 0 ? d.cfg_.daemon.threads : tbb::task_arena::automatic) {
+    try {
+      build();
+    } catch (...) {
+      seg.stop();  // a start that failed leaves a segment that says so, not "starting; retry"
+      throw;
+    }
+  }
+
+  void build() {
     const PolylocConfig& pc = d.cfg_.polyloc;
     map = loadMesh(pc.map.file, pc.map.load);
+    bounds = map.bounds();
+    if (const auto& init = d.cfg_.daemon.init)
+      if (auto why = domain::checkPlanar(init->pose.x(), init->pose.y(), init->pose.yaw(), map.bounds()))
+        throw std::runtime_error(fmt::format("polylocd.init: {} (the map covers {})", *why, domain::describeArea(map.bounds())));
     EmbreeOptions eo;
     eo.threads = d.cfg_.daemon.threads;
     caster = std::make_unique<EmbreeCaster>(map, eo);
@@ -179,7 +194,8 @@ struct Daemon::Impl final : PipelineSink {
       Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
       cov.diagonal() << init->sigma_xy * init->sigma_xy, init->sigma_xy * init->sigma_xy, 0.02 * 0.02, 3e-4, 3e-4,
           init->sigma_yaw * init->sigma_yaw;
-      pipe->initPose(init->pose, cov, stamp);
+      if (!pipe->initPose(init->pose, cov, stamp))
+        return spdlog::error("polylocd.init refused: {}", pipe->checkPose(init->pose, cov).value_or("?"));
       spdlog::info("localisation starts at ({:.3f}, {:.3f}, yaw {:.1f} deg)", init->pose.x(), init->pose.y(), rad2deg(init->pose.yaw()));
     } else {
       pipe->initGlobal(stamp);
@@ -189,8 +205,10 @@ struct Daemon::Impl final : PipelineSink {
 
   void takeRequests(int64_t stamp) {
     if (auto r = d.live_->takePoseRequest()) {
-      pipe->initPose(r->pose, r->covariance, stamp);
-      spdlog::info("pose set by the control endpoint: ({:.3f}, {:.3f}, yaw {:.1f} deg)", r->pose.x(), r->pose.y(), rad2deg(r->pose.yaw()));
+      if (!pipe->initPose(r->pose, r->covariance, stamp))
+        spdlog::warn("pose from the control endpoint refused: {}", pipe->checkPose(r->pose, r->covariance).value_or("?"));
+      else
+        spdlog::info("pose set by the control endpoint: ({:.3f}, {:.3f}, yaw {:.1f} deg)", r->pose.x(), r->pose.y(), rad2deg(r->pose.yaw()));
     }
     if (d.live_->takeGlobalRequest()) {
       pipe->initGlobal(stamp);
@@ -274,7 +292,17 @@ struct Daemon::Impl final : PipelineSink {
       h.input[i] = health[i];
       if (now_silent) h.flags |= 1u;
     }
-    if (pipe->initialised() && pipe->localizer().estimate().status == MclStatus::Lost) h.flags |= 2u;
+    for (size_t i = 0; i < health.size(); ++i) h.input[i].map_fit_permille = 0;  // not measured
+    if (pipe->initialised()) {
+      const MclEstimate e = pipe->localizer().estimate();
+      if (e.status == MclStatus::Lost) h.flags |= 2u;
+      if (e.unfit) h.flags |= 4u;
+      for (size_t k = 0; k < e.sensor_fit.size() && k < d.table_.sensor_channel.size(); ++k) {
+        const auto it = std::find(d.table_.inputs.begin(), d.table_.inputs.end(), d.table_.sensor_channel[k]);
+        if (it != d.table_.inputs.end() && e.sensor_fit[k] >= 0)
+          h.input[size_t(it - d.table_.inputs.begin())].map_fit_permille = std::max<uint32_t>(1, uint32_t(std::lround(e.sensor_fit[k] * 1000)));
+      }
+    }
     w_health->write(&h, sizeof h, h.stamp_ns);
     d.live_->update([&](LiveState::Snapshot& s) { s.health = h; });
   }
@@ -301,10 +329,15 @@ Daemon::Daemon(ServiceConfig config) : cfg_(std::move(config)) {
   impl_ = std::make_unique<Impl>(*this, std::move(seg));
 }
 
-Daemon::~Daemon() = default;
+Daemon::~Daemon() {
+  if (impl_ && !ran_) impl_->seg.stop();
+}
+
+const Eigen::AlignedBox3f& Daemon::mapBounds() const { return impl_->bounds; }
 
 void Daemon::run(const std::atomic<bool>& stop) {
   Impl& m = *impl_;
+  ran_ = true;
   m.seg.ready();
   spdlog::info("ready: rig '{}' ({} sensors), map {} ({} triangles)", cfg_.polyloc.rig.name, cfg_.polyloc.rig.size(),
                cfg_.polyloc.map.file, m.map.numTriangles());

@@ -12,6 +12,7 @@
 #include "pipeline/live_state.hpp"
 #include "shm/segment.hpp"
 
+#include <Eigen/Geometry>
 #include <atomic>
 #include <memory>
 
@@ -26,6 +27,7 @@ class Daemon {
   const ServiceConfig& config() const { return cfg_; }
   const ChannelTable& channels() const { return table_; }
   LiveState& live() { return *live_; }  // for the control endpoint (thread-safe)
+  const Eigen::AlignedBox3f& mapBounds() const;  // poses beyond it plus domain::kMapMargin are refused
 
  private:
   struct Impl;
@@ -33,6 +35,7 @@ class Daemon {
   ChannelTable table_;
   std::unique_ptr<LiveState> live_;
   std::unique_ptr<Impl> impl_;
+  bool ran_ = false;  // a daemon destroyed before run() stops its segment: no "starting" left behind
 };
 
 }  // namespace polyloc::pipeline

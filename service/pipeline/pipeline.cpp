@@ -28,10 +28,15 @@ Pipeline::Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster
 
 Pipeline::~Pipeline() = default;
 
-void Pipeline::initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns) {
-  loc_->initPose(map_T_base, covariance, stamp_ns);
+std::optional<std::string> Pipeline::checkPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance) const {
+  return loc_->checkPose(map_T_base, covariance);
+}
+
+bool Pipeline::initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns) {
+  if (!loc_->initPose(map_T_base, covariance, stamp_ns)) return false;
   map_T_odom_ = map_T_base * odom_T_base_.inverse();
   initialised_ = true;
+  return true;
 }
 
 void Pipeline::initGlobal(int64_t stamp_ns) {

@@ -21,6 +21,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <span>
 #include <vector>
 
@@ -46,7 +47,9 @@ class Pipeline {
   Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster, const RayCaster* weigh = nullptr);
   ~Pipeline();
 
-  void initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);
+  // False (nothing changes) for a pose or spread the localiser refuses (Localizer::checkPose).
+  bool initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);
+  std::optional<std::string> checkPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance) const;
   void initGlobal(int64_t stamp_ns);
   bool initialised() const { return initialised_; }
 

@@ -1,9 +1,12 @@
 // polylocd: the co-process. Reads its config (map, robot, rig, filters, MCL, VRS, tracking and
 // the `polylocd:` section), creates the shared-memory segment, and runs until SIGINT/SIGTERM.
 // docs/polylocd.md is the user guide.
+#include "cli/parse_number.hpp"
 #include "pipeline/control.hpp"
 #include "pipeline/daemon.hpp"
 #include "protocol/server.hpp"
+
+#include <polyloc/geometry/domain.hpp>
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -23,7 +26,7 @@ extern "C" void onSignal(int) { g_stop.store(true); }
 std::vector<double> numbers(const std::string& s) {
   std::vector<double> v;
   std::stringstream ss(s);
-  for (std::string tok; std::getline(ss, tok, ',');) v.push_back(std::stod(tok));
+  for (std::string tok; std::getline(ss, tok, ',');) v.push_back(polyloc::cli::parseNumber(tok, "--init"));
   return v;
 }
 
@@ -38,12 +41,16 @@ int main(int argc, char** argv) {
   app.add_option("--instance", instance, "Segment name /polyloc.NAME (default: polylocd.instance)");
   app.add_option("--init", init, "Start pose x,y,yaw_deg (default: polylocd.init, else global localisation)");
   app.add_flag("--global", global, "Start with global localisation, whatever the config says");
-  app.add_option("--threads", threads, "TBB threads for the kernels (0: all cores)");
+  app.add_option("--threads", threads, "TBB threads for the kernels (0: all cores)")->check(polyloc::cli::finiteRange(0, 4096));
   app.add_option("--control-port", port, "TCP control port (0: any free one; default: polylocd.control.port)");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off");
   app.add_flag("--check", check, "Validate the config and exit");
   app.set_version_flag("--version", "polylocd 0.1.0");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // usage errors exit 2, as polyloc's
+  }
   spdlog::set_default_logger(spdlog::stderr_color_mt("polylocd"));  // stdout stays for --check's answer
 
   try {
@@ -57,6 +64,8 @@ int main(int argc, char** argv) {
     if (!init.empty()) {
       const auto v = numbers(init);
       if (v.size() != 3) throw std::runtime_error("--init: expected x,y,yaw_deg");
+      if (auto why = polyloc::domain::checkValue("yaw", polyloc::deg2rad(v[2]), polyloc::domain::kMaxAngle))
+        throw std::runtime_error("--init: " + *why);
       d.init = polyloc::pipeline::InitPose{polyloc::Pose::planar(v[0], v[1], polyloc::deg2rad(v[2]))};
     }
     spdlog::set_level(spdlog::level::from_str(d.log_level));
@@ -76,7 +85,8 @@ int main(int argc, char** argv) {
     if (cc.enabled) {
       std::vector<std::string> inputs;
       for (int ch : daemon.channels().inputs) inputs.push_back(daemon.channels().specs[size_t(ch)].name);
-      control = std::make_unique<polyloc::pipeline::DaemonControl>(daemon.live(), daemon.config(), std::move(inputs));
+      control = std::make_unique<polyloc::pipeline::DaemonControl>(daemon.live(), daemon.config(), std::move(inputs),
+                                                                daemon.mapBounds());
       polyloc::protocol::ServerConfig sc;
       sc.bind_address = cc.bind, sc.port = cc.port;
       server = std::make_unique<polyloc::protocol::Server>(sc, *control);
@@ -91,3 +101,4 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+

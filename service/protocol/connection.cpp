@@ -22,7 +22,7 @@ const char* toString(CloseReason r) {
 }
 
 Connection::Connection(int fd, std::string peer, uint32_t max_frame_bytes, Clock::time_point now)
-    : last_rx(now), frame_started(now), fd_(fd), peer_(std::move(peer)), parser_(max_frame_bytes), in_(kReadChunk) {}
+    : last_rx(now), frame_started(now), connected(now), fd_(fd), peer_(std::move(peer)), parser_(max_frame_bytes), in_(kReadChunk) {}
 
 Connection::~Connection() {
   if (fd_ >= 0) ::close(fd_);

@@ -43,6 +43,8 @@ class Connection {
   // Server state of this connection.
   Clock::time_point last_rx;        // last bytes received (idle timeout)
   Clock::time_point frame_started;  // first byte of the incomplete frame (frame timeout)
+  Clock::time_point connected;      // first-frame timeout
+  uint64_t frames = 0;              // whole frames received
   int frame_errors = 0;
   CloseReason closing = CloseReason::None;  // set: no more requests; flush, drain, close
   Clock::time_point close_by;               // closing: give up waiting for the peer then

@@ -18,7 +18,7 @@ Status poseStatus(const std::optional<PoseReport>& p) {
 
 bool validSeed(const PoseSeed& s) {
   const auto sigmaOk = [](const std::optional<double>& v) { return !v || (std::isfinite(*v) && *v > 0); };
-  return std::isfinite(s.pose.x()) && std::isfinite(s.pose.y()) && std::isfinite(s.pose.yaw()) &&
+  return std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(s.yaw) &&
          sigmaOk(s.sigma_xy_m) && sigmaOk(s.sigma_yaw_rad);
 }
 

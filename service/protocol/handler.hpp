@@ -38,10 +38,12 @@ struct PoseReport {
 
 // SETPOSE: seed the filter around `pose` (planar: z, roll, pitch 0). Unset spreads: the
 // handler's defaults (polylocd: its MCL config's initial spread).
+// The values as sent (not a Pose): a yaw of 1e30 must reach the checks, not be wrapped first.
 struct PoseSeed {
-  Pose pose;
+  double x = 0, y = 0, yaw = 0;  // map frame, m and rad
   std::optional<double> sigma_xy_m;
   std::optional<double> sigma_yaw_rad;
+  Pose pose() const { return Pose::planar(x, y, yaw); }
 };
 
 // One entry of the scanner list. Entry 0 is the VRS (in base_link: identity mount), then the

@@ -46,7 +46,7 @@ std::optional<uint32_t> stampAndCount(WordReader& r, int64_t& stamp, size_t entr
 
 Words encodeSeed(const PoseSeed& s) {
   WordWriter w;
-  w.f32(s.pose.x()), w.f32(s.pose.y()), w.f32(s.pose.yaw());
+  w.f32(s.x), w.f32(s.y), w.f32(s.yaw);
   if (s.sigma_xy_m || s.sigma_yaw_rad) {
     // Both or neither on the wire; a missing one is sent as 0, read back as "default".
     w.f32(s.sigma_xy_m.value_or(0)), w.f32(s.sigma_yaw_rad.value_or(0));
@@ -58,7 +58,7 @@ std::optional<PoseSeed> decodeSeed(WordSpan data) {
   if (data.size() != 3 && data.size() != 5) return std::nullopt;
   WordReader r(data);
   const double x = r.f32(), y = r.f32(), yaw = r.f32();
-  PoseSeed s{Pose::planar(x, y, yaw), {}, {}};
+  PoseSeed s{x, y, yaw, {}, {}};
   if (data.size() == 5) {
     const double sxy = r.f32(), syaw = r.f32();
     if (sxy != 0) s.sigma_xy_m = sxy;

@@ -37,6 +37,7 @@ void validate(const ServerConfig& c) {
   need(c.max_clients >= 1, "max_clients must be at least 1", c.max_clients);
   need(c.max_frame_bytes >= kMinFrameBytes, "max_frame_bytes must be at least 16", c.max_frame_bytes);
   need(c.frame_timeout_ms > 0, "frame_timeout_ms must be positive", c.frame_timeout_ms);
+  need(c.first_frame_timeout_ms > 0, "first_frame_timeout_ms must be positive", c.first_frame_timeout_ms);
   need(c.idle_timeout_ms >= 0, "idle_timeout_ms must be 0 (never) or positive", c.idle_timeout_ms);
   need(c.max_queued_bytes > 0, "max_queued_bytes must be positive", static_cast<long long>(c.max_queued_bytes));
   need(c.max_frame_errors >= 1, "max_frame_errors must be at least 1", c.max_frame_errors);
@@ -128,6 +129,7 @@ struct Server::Impl {
         continue;
       }
       count(&ServerCounters::frames);
+      ++c.frames;
       Dispatched d = dispatch(r.frame, handler);
       if (!d.failure.empty()) warn("handler", "{}: {} failed: {}", c.peer(), commandName(r.frame.command), d.failure);
       countStatus(replyStatus(d.reply));
@@ -167,6 +169,13 @@ struct Server::Impl {
       count(&ServerCounters::frame_timeouts);
       warn("timeout", "{}: frame not completed within {} ms ({} bytes held), closing", c.peer(), cfg.frame_timeout_ms,
            c.parser().buffered());
+      queue(c, frameErrorReply(Status::FrameTimeout), now);
+      beginClose(c, CloseReason::FrameTimeout, now);
+    } else if (c.frames == 0 && c.frame_errors == 0 && now - c.connected > Ms(cfg.first_frame_timeout_ms)) {
+      // A client that connects and says nothing holds one of max_clients places: without this,
+      // 16 of them lock every other client out for the idle timeout.
+      count(&ServerCounters::frame_timeouts);
+      warn("timeout", "{}: no whole frame within {} ms of connecting, closing", c.peer(), cfg.first_frame_timeout_ms);
       queue(c, frameErrorReply(Status::FrameTimeout), now);
       beginClose(c, CloseReason::FrameTimeout, now);
     } else if (cfg.idle_timeout_ms > 0 && now - c.last_rx > Ms(cfg.idle_timeout_ms)) {
@@ -240,6 +249,8 @@ struct Server::Impl {
         next = std::min(next, c->close_by);
       else if (c->parser().midFrame())
         next = std::min(next, c->frame_started + Ms(cfg.frame_timeout_ms + 1));
+      else if (c->frames == 0 && c->frame_errors == 0)
+        next = std::min(next, c->connected + Ms(cfg.first_frame_timeout_ms + 1));
       else if (cfg.idle_timeout_ms > 0)
         next = std::min(next, c->last_rx + Ms(cfg.idle_timeout_ms + 1));
     }

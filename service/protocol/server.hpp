@@ -21,6 +21,7 @@ struct ServerConfig {
   int max_clients = 16;                              // more: a Busy reply, then closed
   uint32_t max_frame_bytes = kDefaultMaxFrameBytes;  // larger requests: FrameTooLarge
   int frame_timeout_ms = 2000;                       // a started frame not complete after this: FrameTimeout, closed
+  int first_frame_timeout_ms = 5000;                 // no whole frame this long after connecting: FrameTimeout, closed
   int idle_timeout_ms = 600000;                      // nothing received for this long: closed; 0: never
   size_t max_queued_bytes = 1 << 20;                 // replies a client has not read; over it: closed (slow)
   int max_frame_errors = 4;                          // frame errors on one connection before it is closed

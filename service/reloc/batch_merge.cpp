@@ -2,6 +2,7 @@
 
 #include "reloc/report.hpp"
 
+#include <polyloc/io/atomic_file.hpp>
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -45,9 +46,12 @@ JobResult mergeSegments(std::vector<JobResult> parts) {
 namespace {
 
 void writeJson(const std::filesystem::path& path, const nlohmann::json& j) {
-  std::ofstream f(path);
+  AtomicFile file(path.string());
+  std::ofstream f(file.tmp());
   f << j.dump(2) << "\n";
+  f.close();
   if (!f) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
+  file.commit();
 }
 
 }  // namespace

@@ -56,15 +56,17 @@ void measureFloor(const RealLog& log, const RealLogSplit& split, const Rig& rig,
     r.floor_std_along.push_back(a.refined ? a.std_along : std::numeric_limits<double>::infinity());
     const RefineScan scan{size_t(sensor), s.scan.ranges, Pose()};
     const MclConfig& mc = r.config.mcl;
-    auto seen = [&](const Pose& p) {
-      return checkFit(caster, rig, std::span<const RefineScan>(&scan, 1), p, mc.fit.tolerance, mc.fit.beams_per_scan).seenThrough();
+    auto fit = [&](const Pose& p) {
+      return checkFit(caster, rig, std::span<const RefineScan>(&scan, 1), p, mc.fit.tolerance, mc.fit.beams_per_scan);
     };
+    auto seen = [&](const Pose& p) { return fit(p).seenThrough(); };
     auto displaced = [&](double d, uint64_t k) {
       const double dir = rng.uniform(-M_PI, M_PI, kFitStream + k, i, 0);
       const double yaw = deg2rad(rng.uniform(-10, 10, kFitStream + k, i, 1));
       return Pose::planar(d * std::cos(dir), d * std::sin(dir), 0) * a.pose * Pose::planar(0, 0, yaw);
     };
     r.seen_through_aligned.push_back(seen(a.pose));
+    r.explained_aligned.push_back(fit(a.pose).explainedShare());
     r.seen_through_0_5m.push_back(seen(displaced(0.5, 0)));
     r.seen_through_2m.push_back(seen(displaced(2.0, 1)));
     if (!a.refined) ++r.floor_refused[a.refine_reason];

@@ -89,6 +89,7 @@ struct CarmenEvalResult {
   // the aligned pose, and at poses displaced from it by 0.5 m and 2 m (random direction, yaw
   // +-10 deg): what mcl.fit.max_seen_through must separate.
   std::vector<double> seen_through_aligned, seen_through_0_5m, seen_through_2m;
+  std::vector<double> explained_aligned;  // share of beams the map explains at the aligned pose (map fit)
   // Per test scan: the aligned position's std along the scanner's heading (m; inf when the
   // refinement was refused). Large in corridors: there the scan leaves the position open.
   std::vector<double> floor_std_along;

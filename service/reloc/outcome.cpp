@@ -34,7 +34,7 @@ json resultJson(const JobResult& r) {
     json cov = json::array();
     for (int i = 0; i < 36; ++i) cov.push_back(f.covariance.data()[i]);
     frames.push_back({{"t", f.stamp_ns}, {"p", poseJson(f.pose)}, {"c", cov}, {"s", int(f.status)}, {"e", f.ess},
-                      {"n", f.particles}, {"v", f.seen_through}, {"r", f.refined}});
+                      {"n", f.particles}, {"v", f.seen_through}, {"r", f.refined}, {"f", f.map_fit}});
   }
   json truth = json::array();
   for (const auto& t : r.truth) truth.push_back({t.stamp_ns, poseJson(t.pose)});
@@ -58,7 +58,7 @@ JobResult resultFrom(const json& j) {
   r.keep_from_ns = j.at("keep_from_ns");
   r.keep_to_ns = j.at("keep_to_ns");
   for (const auto& f : j.at("frames")) {
-    FrameRecord fr{f.at("t"), poseFrom(f.at("p")), {}, MclStatus(f.at("s").get<int>()), f.at("e"), f.at("n"), f.at("v"), f.at("r")};
+    FrameRecord fr{f.at("t"), poseFrom(f.at("p")), {}, MclStatus(f.at("s").get<int>()), f.at("e"), f.at("n"), f.at("v"), f.at("r"), f.value("f", -1.0)};
     for (int i = 0; i < 36; ++i) fr.covariance.data()[i] = f.at("c")[i];
     r.frames.push_back(fr);
   }

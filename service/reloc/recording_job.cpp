@@ -2,6 +2,7 @@
 
 #include "reloc/recorded_rig.hpp"
 
+#include <polyloc/geometry/domain.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/io/restamp.hpp>
 #include <polyloc/io/stamp_check.hpp>
@@ -115,6 +116,11 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   cov.diagonal() << sxy * sxy, sxy * sxy, 0.02 * 0.02, deg2rad(1) * deg2rad(1), deg2rad(1) * deg2rad(1), syaw * syaw;
 
   Localizer loc(ctx.caster, ctx.mesh, rig, ctx.config.mcl, ctx.weigh);
+  if (start)
+    if (auto why = loc.checkPose(start->pose, cov))
+      throw std::runtime_error(fmt::format("{}: {} (the map covers {})",
+                                           res.init_mode == "pose" ? "--init / --init-sigma" : "the first ground-truth pose",
+                                           *why, domain::describeArea(ctx.mesh.bounds())));
   TopicRouter router(rig, o.sensors.empty() ? std::vector<bool>(rig.size(), true) : o.sensors);
   const RecordingSpan span = spanOf(reader->topics());
   const int64_t from_ns = std::max(o.read_from_ns, span.first_ns);
@@ -152,6 +158,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   const int64_t plot_from = std::max(o.keep_from_ns, from_ns);
   const double plot_span = std::max<double>(1.0, double(to_ns - plot_from));
 
+  std::set<std::string> unknown_topics, ignored_topics;  // a few, for the error when nothing matches the rig
+  bool any_frame = false;
   RecordedMessage m;
   while (reader->next(m)) {
     if (m.log_time_ns < o.read_from_ns) continue;  // before this segment's warm-up
@@ -176,9 +184,14 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     // Only the stamps the filter uses are checked: truth topics for people may share a stamp.
     if (r.kind != TopicRouter::Kind::Ignored) stamps.add(m.topic, messageStamp(m), read - 1);
     switch (r.kind) {
-      case TopicRouter::Kind::Ignored: continue;
+      case TopicRouter::Kind::Ignored:
+        if (ignored_topics.size() < 8) ignored_topics.insert(m.topic);
+        continue;
       case TopicRouter::Kind::Disabled: ++disabled; continue;
-      case TopicRouter::Kind::UnknownSensor: ++unknown_sensor, warn(m.topic, r.why); continue;
+      case TopicRouter::Kind::UnknownSensor:
+        ++unknown_sensor, warn(m.topic, r.why);
+        if (unknown_topics.size() < 8) unknown_topics.insert(m.topic);
+        continue;
       case TopicRouter::Kind::WrongSize: ++wrong_size, warn("size " + m.topic, r.why + ": frame rejected"); continue;
       case TopicRouter::Kind::WrongGeometry:
         ++wrong_geometry, warn("geometry " + m.topic, r.why + ": frame rejected (a rig sensor of preset 'recorded' takes the recorded geometry)");
@@ -186,6 +199,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       case TopicRouter::Kind::BadImage: ++bad_image, warn("image " + m.topic, r.why + ": frame rejected"); continue;
       case TopicRouter::Kind::Frame: break;
     }
+    any_frame = true;
     if (!initialised) {
       if (r.stamp_ns < start_after) {  // before the ground truth begins: where the robot was is unknown
         ++before_start;
@@ -198,7 +212,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     if (!updated) continue;
     const MclEstimate e = loc.estimate();
     if (e.stamp_ns < o.keep_from_ns || e.stamp_ns >= o.keep_to_ns) continue;  // warm-up
-    res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles, e.seen_through, e.refined});
+    res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles, e.seen_through, e.refined,
+                          e.map_fit});
     if (o.stop_after_updates > 0 && e.updates >= o.stop_after_updates) break;
     if (!o.plot) continue;
     if (isFinite(e.pose)) res.plot.estimate_path.emplace_back(float(e.pose.x()), float(e.pose.y()));
@@ -214,6 +229,19 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   if (o.progress) o.progress(1.0, loc.counters().updates);
   const ReadStats& rs = reader->stats();
   for (size_t i = 0; i < rs.warnings.size() && i < 5; ++i) res.warnings.push_back(rs.warnings[i]);
+  // A recording none of whose topics is a rig sensor's is a mistake (another robot's recording,
+  // the wrong config), not an empty success.
+  if (!any_frame && unknown_topics.size() + ignored_topics.size() > 0 && o.read_from_ns <= span.first_ns) {
+    std::string topics;
+    size_t listed = 0;
+    for (const auto* set : {&unknown_topics, &ignored_topics})  // sensor topics first
+      for (const auto& t : *set)
+        if (listed++ < 8) topics += (topics.empty() ? "" : ", ") + t;
+    std::string sensors;
+    for (const auto& s : rig.sensors) sensors += (sensors.empty() ? "" : ", ") + s.name;
+    throw std::runtime_error(fmt::format("{}: no topic matches a sensor of rig '{}' (the recording has {}{}; the rig's sensors are {})",
+                                         o.input, rig.name, topics, listed > 8 ? ", ..." : "", sensors));
+  }
   if (!initialised) log(fmt::format("warning: {}: no odometry and no scans for the rig", o.input));
   res.stamp_warnings = stamps.warnings();
   res.stamps_bad = stamps.bad();
@@ -242,6 +270,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"refinements_refused", c.refinements_refused},
                   {"relocalizations", c.relocalizations},
                   {"contradicted", c.contradicted},
+                  {"unfit", c.unfit},
+                  {"map_fit", loc.estimate().map_fit},
                   {"hypotheses", c.hypotheses},
                   {"particles_blocked", c.particles_blocked},
                   {"blocked_ignored", c.blocked_ignored},

@@ -76,6 +76,7 @@ struct FrameRecord {
   size_t particles = 0;
   double seen_through = 0;            // share of the round's beams beyond the map's surface (mcl.fit)
   bool refined = false;               // the estimate was refined against the mesh (mcl.refine)
+  double map_fit = -1;                // share of the beams the map explains, smoothed (mcl.fit; -1: not yet)
 };
 
 struct JobResult {

@@ -1,9 +1,12 @@
 #include "reloc/report.hpp"
 
+#include <polyloc/io/atomic_file.hpp>
+#include <polyloc/eval/stats.hpp>
 #include <polyloc/io/tum.hpp>
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -39,7 +42,7 @@ std::string covHeader(CsvCovariance cov) {
   if (cov == CsvCovariance::Full)
     for (int i = 0; i < 6; ++i)
       for (int j = i; j < 6; ++j) h += fmt::format(",cov_{}{}", i, j);
-  return h + ",ess,particles,seen_through,refined";
+  return h + ",ess,particles,seen_through,refined,map_fit";
 }
 
 std::string covColumns(const FrameRecord* f, CsvCovariance cov) {
@@ -50,14 +53,15 @@ std::string covColumns(const FrameRecord* f, CsvCovariance cov) {
   if (cov == CsvCovariance::Full)
     for (int i = 0; i < 6; ++i)
       for (int j = i; j < 6; ++j) s += fmt::format(",{:.6g}", f->covariance(i, j));
-  return s + fmt::format(",{:.1f},{},{:.3f},{}", f->ess, f->particles, f->seen_through, f->refined ? 1 : 0);
+  return s + fmt::format(",{:.1f},{},{:.3f},{},{:.3f}", f->ess, f->particles, f->seen_through, f->refined ? 1 : 0, f->map_fit);
 }
 
 }  // namespace
 
 void writeCsv(const std::string& path, const TrajectoryMetrics* metrics, const std::vector<FrameRecord>& frames,
               CsvCovariance cov) {
-  std::ofstream f(path);
+  AtomicFile file(path);
+  std::ofstream f(file.tmp());
   if (!f) throw std::runtime_error(fmt::format("{}: cannot write", path));
   auto pose = [](const Pose& p) {
     return fmt::format("{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}", p.x(), p.y(), p.z(), rad2deg(p.roll()),
@@ -106,6 +110,15 @@ nlohmann::json resultJson(const JobResult& r, const TrajectoryMetrics* metrics) 
                       {"updates", r.updates}, {"updates_per_s", ups}, {"wall_s", r.wall_s}, {"filter_s", r.filter_s},
                       {"particles", r.final_particles}, {"status", toString(r.final_status)},
                       {"counters", r.counters}};
+  // Map fit (mcl.fit): the share of beams the map explains at the estimate, smoothed.
+  std::vector<double> fit;
+  for (const auto& f : r.frames)
+    if (f.map_fit >= 0) fit.push_back(f.map_fit);
+  if (!fit.empty())
+    j["map_fit"] = {{"last", fit.back()}, {"min", *std::min_element(fit.begin(), fit.end())}, {"p05", percentile(fit, 5)},
+                    {"p50", percentile(fit, 50)}};
+  else
+    j["map_fit"] = nullptr;
   if (!metrics) return j;
   j["evaluated_frames"] = metrics->all.frames;
   j["skipped_frames"] = metrics->skipped;

@@ -2,6 +2,8 @@
 // so it is safe on anything a slot holds (docs/interface.md, "Input validation").
 #include "shm/validate.hpp"
 
+#include <polyloc/geometry/domain_limits.hpp>
+
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -35,9 +37,12 @@ Validation ranges(const Check& c, const uint8_t* p, size_t bytes) {
   const uint64_t expect = head + uint64_t{count} * sizeof(float);
   if (bytes != expect)
     return c.fail(Reject::Size, str(bytes) + " bytes, expected " + str(expect) + " for " + str(count) + " beams");
-  for (uint32_t i = 0; i < count; ++i)
-    if (std::isfinite(field<float>(p, head + i * sizeof(float)))) return {};
-  return c.fail(Reject::NaN, "all " + str(count) + " ranges are NaN or inf");
+  for (uint32_t i = 0; i < count; ++i) {
+    const float r = field<float>(p, head + i * sizeof(float));
+    if (std::isfinite(r) && r >= 0 && r <= domain::kMaxRange) return {};
+  }
+  return c.fail(Reject::NaN, "none of the " + str(count) + " ranges is a distance (all NaN, inf, negative or beyond " +
+                                 str(uint64_t(domain::kMaxRange)) + " m)");
 }
 
 Validation depth(const Check& c, const uint8_t* p, size_t bytes) {
@@ -65,6 +70,11 @@ Validation odometry(const Check& c, const uint8_t* p, size_t bytes) {
   static const char* names[7] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
   for (int i = 0; i < 7; ++i)
     if (!std::isfinite(pose[i])) return c.fail(Reject::NaN, std::string(names[i]) + " is " + std::to_string(pose[i]));
+  // Finite is not enough: an odometry of 1e19 m would carry every particle off any map.
+  for (int i = 0; i < 3; ++i)
+    if (std::fabs(pose[i]) > domain::kMaxCoordinate)
+      return c.fail(Reject::NaN, std::string(names[i]) + " is " + std::to_string(pose[i]) + ": beyond +-" +
+                                     str(uint64_t(domain::kMaxCoordinate)) + " m");
   const double norm = std::sqrt(o.qw * o.qw + o.qx * o.qx + o.qy * o.qy + o.qz * o.qz);
   if (std::fabs(norm - 1.0) > 1e-3)
     return c.fail(Reject::NaN, "quaternion norm " + std::to_string(norm) + ", expected 1 within 1e-3");

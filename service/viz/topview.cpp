@@ -1,5 +1,6 @@
 #include "viz/topview.hpp"
 
+#include <polyloc/io/atomic_file.hpp>
 #include <polyloc/map/slice.hpp>
 
 #include <opencv2/core.hpp>
@@ -117,13 +118,15 @@ void TopView::drawScaleBar() {
 }
 
 void TopView::save(const std::string& png_path) const {
+  AtomicFile f(png_path);  // the old picture stays until the new one is whole
   bool ok = false;
   try {
-    ok = cv::imwrite(png_path, canvas_->img);
+    ok = cv::imwrite(f.tmp(), canvas_->img);
   } catch (const cv::Exception& e) {
     throw std::runtime_error("cannot write picture '" + png_path + "': " + e.what());
   }
   if (!ok) throw std::runtime_error("cannot write picture '" + png_path + "'");
+  f.commit();
 }
 
 }  // namespace polyloc::viz

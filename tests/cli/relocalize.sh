@@ -40,7 +40,7 @@ for name in ("a", "b"):
     assert j["status"] == "ok" and j["init"] == "ground_truth" and j["ate_rmse_m"] < 0.3, j
     assert j["frames"] == t2.count("\n") - sum(l.startswith("#") for l in t2.splitlines()), j["frames"]
     csv = open(f"{tmp}/j2/{name}/frames.csv").read().splitlines()
-    assert "pos_err_m" in csv[0] and "cov_55" in csv[0] and csv[0].endswith(",ess,particles,seen_through,refined"), csv[0]
+    assert "pos_err_m" in csv[0] and "cov_55" in csv[0] and csv[0].endswith(",ess,particles,seen_through,refined,map_fit"), csv[0]
     assert len(csv) == 1 + j["evaluated_frames"], (len(csv), j["evaluated_frames"])
     c1 = open(f"{tmp}/j1/{name}/frames.csv").readline()
     assert "var_yaw" in c1 and "cov_00" not in c1, c1

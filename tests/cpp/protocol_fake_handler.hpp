@@ -43,7 +43,7 @@ class FakeHandler : public ControlHandler {
 
   Status setPose(const PoseSeed& seed) override {
     auto l = lock();
-    if (std::abs(seed.pose.x()) > 1000 || std::abs(seed.pose.y()) > 1000)
+    if (std::abs(seed.x) > 1000 || std::abs(seed.y) > 1000)
       return Status::BadArgument;  // "outside the map"
     last_seed = seed;
     pose_status = PoseStatus::Uncertain;

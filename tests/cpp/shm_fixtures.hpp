@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,16 @@ inline int64_t nowRealtimeNs() {
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);
   return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+// The newest frame of polylocd's health channel, if any.
+inline std::optional<polyloc_health> readHealth(const shm::Segment& seg) {
+  shm::Reader r(seg, seg.find("health"), shm::Reader::Start::Newest);
+  std::vector<uint8_t> buf;
+  if (!r.newest(buf) || buf.size() < sizeof(polyloc_health)) return std::nullopt;
+  polyloc_health h;
+  std::memcpy(&h, buf.data(), sizeof h);
+  return h;
 }
 
 }  // namespace polyloc::test

@@ -31,6 +31,7 @@ class TempDir {
   TempDir(const TempDir&) = delete;
   TempDir& operator=(const TempDir&) = delete;
 
+  const std::filesystem::path& path() const { return path_; }
   std::string file(const std::string& name) const { return (path_ / name).string(); }
   // Writes `content` (text or bytes) to a file in the directory and returns its path.
   std::string write(const std::string& name, const std::string& content) const {

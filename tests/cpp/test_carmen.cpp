@@ -227,6 +227,28 @@ TEST(Carmen, MalformedLinesAreCountedWithFileAndLine) {
   EXPECT_NE(w[1].find("'abc'"), std::string::npos) << w[1];
 }
 
+// Finite but absurd numbers (1e19 m) are refused like non-numbers; time going backwards is kept
+// (a log's order is its order) and noted once.
+TEST(Carmen, NumbersBeyondTheDomainAreRefusedAndBackwardsTimeIsNoted) {
+  test::TempDir dir;
+  const std::string path = dir.write("hostile.log",
+      "ODOM 1e19 2 3 0 0 0 5.0 host 5.0\n"                  // 1 x beyond 1e6
+      "ODOM 1 -1e300 3 0 0 0 5.0 host 5.0\n"                // 2 y beyond 1e6
+      "FLASER 2 1.0 2.0 0 0 0 1e19 0 0 5.0 host 5.0\n"      // 3 odometry x beyond 1e6
+      "ODOM 1 2 3 0 0 0 6.0 host 6.0\n"                     // 4 ok
+      "ODOM -0 1e-300 0 0 0 0 5.5 host 5.5\n"               // 5 ok, earlier than line 4
+      "ODOM 1 2 3 0 0 0 4.0 host 4.0\n");                   // 6 ok, earlier again (not noted twice)
+  auto r = openRecording(path);
+  auto m = readAll(*r);
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_EQ(r->stats().rejected, 3u);
+  ASSERT_EQ(r->stats().warnings.size(), 3u);
+  EXPECT_NE(r->stats().warnings[0].find(":1: ODOM: field 1 is '1e19': beyond +-1e6"), std::string::npos) << r->stats().warnings[0];
+  size_t backwards = 0;
+  for (const auto& n : r->stats().notes) backwards += n.find("time goes backwards") != std::string::npos;
+  EXPECT_EQ(backwards, 1u);
+}
+
 // A longer log of every type for the damage tests.
 std::string longLog() {
   std::string s = "# long\nPARAM robot_front_laser_max 50.0 0 host 0\n";

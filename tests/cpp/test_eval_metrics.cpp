@@ -196,6 +196,9 @@ TEST(EvalMetrics, ConvergenceNeedsOneSecondWithinBounds) {
   EXPECT_FALSE(never.converged_after_s);
   EXPECT_EQ(never.after_convergence.frames, 0u);
   EXPECT_TRUE(std::isnan(never.after_convergence.ate_rmse_m));
+  // Exact poses from a filter that never said it tracks: not converged either.
+  for (size_t i = 0; i < est.size(); ++i) est[i] = {est[i].stamp_ns, truth[i].pose, MclStatus::Uncertain};
+  EXPECT_FALSE(evaluateTrajectory(est, GroundTruth(truth), o).converged_after_s);
 }
 
 TEST(EvalMetrics, TooShortToShowConvergence) {

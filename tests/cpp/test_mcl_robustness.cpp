@@ -87,11 +87,31 @@ TEST_F(MclRobust, TimeGoingBackwards) {
 }
 
 TEST_F(MclRobust, EmptyMapRegionIsLost) {
-  // Far outside the room: every ray misses, every particle floats over nothing.
-  loc.initPose(Pose::planar(50, 50, 0), planarCov(0.2, 0.1), 0);
+  // Outside the room but within the map's margin: every particle floats over nothing.
+  ASSERT_TRUE(loc.initPose(Pose::planar(9, 9, 0), planarCov(0.2, 0.1), 0));
   EXPECT_TRUE(loc.addScan(0, 1, scan()));
   EXPECT_EQ(loc.estimate().status, MclStatus::Lost);
   EXPECT_GT(loc.estimate().particles, 0u);
+}
+
+TEST_F(MclRobust, PosesAndOdometryOutsideTheDomainAreRefused) {
+  ASSERT_TRUE(loc.initPose(truth, planarCov(0.1, 0.05), 0));
+  ASSERT_TRUE(loc.addScan(0, 1, scan()));
+  const Pose before = loc.estimate().pose;
+  // Beyond the map's box plus 10 m, huge, or with spreads beyond their domain: nothing changes.
+  EXPECT_FALSE(loc.initPose(Pose::planar(50, 50, 0), planarCov(0.2, 0.1), 2));
+  EXPECT_FALSE(loc.initPose(Pose::planar(1e19, 0, 0), planarCov(0.2, 0.1), 2));
+  EXPECT_FALSE(loc.initPose(truth, planarCov(1e19, 0.1), 2));
+  EXPECT_FALSE(loc.initPose(truth, planarCov(0.1, 1e3), 2));
+  EXPECT_EQ(loc.counters().poses_rejected, 4u);
+  EXPECT_NE(loc.checkPose(Pose::planar(1e19, 0, 0), planarCov(0.2, 0.1)).value_or("").find("x is 1e+19"), std::string::npos);
+  EXPECT_NE(loc.checkPose(truth, planarCov(1e19, 0.1)).value_or("").find("sigma x is 1e+19"), std::string::npos);
+  // Odometry 1e19 m away is counted invalid and moves nothing; the filter goes on.
+  loc.addOdometry(1000, Pose());
+  loc.addOdometry(2000, Pose::planar(1e19, 0, 0));
+  EXPECT_EQ(loc.counters().odometry_invalid, 1u);
+  loc.addScan(0, 3000, scan(1));
+  EXPECT_LT(posErr(loc.estimate().pose, before), 0.1);
 }
 
 TEST_F(MclRobust, ParticlesInsideWallsGetZeroWeight) {

@@ -5,6 +5,7 @@
 #include "pipeline/message_feed.hpp"
 #include "pipeline/shm_payloads.hpp"
 #include "shm/channel.hpp"
+#include "shm_fixtures.hpp"
 #include "sim_fixtures.hpp"
 
 #include <polyloc/sim/scenario.hpp>
@@ -71,14 +72,7 @@ shm::Segment attachReady(const std::string& name) {
   }
 }
 
-std::optional<polyloc_health> health(const shm::Segment& seg) {
-  shm::Reader r(seg, seg.find("health"), shm::Reader::Start::Newest);
-  std::vector<uint8_t> buf;
-  if (!r.newest(buf) || buf.size() < sizeof(polyloc_health)) return std::nullopt;
-  polyloc_health h;
-  std::memcpy(&h, buf.data(), sizeof h);
-  return h;
-}
+std::optional<polyloc_health> health(const shm::Segment& seg) { return test::readHealth(seg); }
 
 // Waits until polylocd's health shows `frames` taken or rejected in all, or 30 s.
 polyloc_health settle(const shm::Segment& seg, uint64_t frames) {

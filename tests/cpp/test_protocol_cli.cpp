@@ -63,8 +63,8 @@ TEST(ProtocolCli, Commands) {
   {
     auto l = t.handler.lock();
     ASSERT_TRUE(t.handler.last_seed);
-    EXPECT_NEAR(t.handler.last_seed->pose.x(), -1.5, 1e-6);
-    EXPECT_NEAR(t.handler.last_seed->pose.yaw(), M_PI / 2, 1e-6);
+    EXPECT_NEAR(t.handler.last_seed->x, -1.5, 1e-6);
+    EXPECT_NEAR(t.handler.last_seed->yaw, M_PI / 2, 1e-6);
     EXPECT_NEAR(*t.handler.last_seed->sigma_yaw_rad, 5 * M_PI / 180, 1e-6);
   }
   EXPECT_EQ(ctlJson(t, "getpose")["pose_status"], "uncertain");

@@ -42,7 +42,7 @@ std::string session() {
   step("CHECKPROTOCOL, client version 1.0", cmd::CHECKPROTOCOL, {kProtocolVersion});
   step("GETPOSE: x 1.25 m, y -2.5 m, yaw 0.5 rad, stamp 1700000000123456789 ns", cmd::GETPOSE, {});
   step("SETPOSE x 2 m, y 1 m, yaw 90 deg, sigma_xy 0.25 m, sigma_yaw 10 deg", cmd::SETPOSE,
-       encodeSeed({Pose::planar(2.0, 1.0, deg2rad(90)), 0.25, deg2rad(10)}));
+       encodeSeed({2.0, 1.0, deg2rad(90), 0.25, deg2rad(10)}));
   step("GETNUMSCANNERS: 3 (the VRS, front, rear)", cmd::GETNUMSCANNERS, {});
   step("SETCOLLISIONAVOIDANCE 0: VRS publication off", cmd::SETCOLLISIONAVOIDANCE, {0});
   step("GETSCANRADIALSCANNER 5: no such scanner", cmd::GETSCANRADIALSCANNER, {5});

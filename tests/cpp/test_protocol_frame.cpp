@@ -92,15 +92,15 @@ TEST(ProtocolWords, ValuesAndStrings) {
 }
 
 TEST(ProtocolMessages, SeedRoundTripWithAndWithoutSpread) {
-  PoseSeed s{Pose::planar(1.5, -2.0, 0.75), 0.2, 0.1};
+  PoseSeed s{1.5, -2.0, 0.75, 0.2, 0.1};
   auto d = decodeSeed(encodeSeed(s));
   ASSERT_TRUE(d);
-  EXPECT_NEAR(d->pose.x(), 1.5, 1e-6);
-  EXPECT_NEAR(d->pose.yaw(), 0.75, 1e-6);
+  EXPECT_NEAR(d->x, 1.5, 1e-6);
+  EXPECT_NEAR(d->yaw, 0.75, 1e-6);
   EXPECT_NEAR(*d->sigma_xy_m, 0.2, 1e-6);
   EXPECT_NEAR(*d->sigma_yaw_rad, 0.1, 1e-6);
-  EXPECT_EQ(encodeSeed({Pose::planar(1, 2, 3), {}, {}}).size(), 3u);
-  d = decodeSeed(encodeSeed({Pose::planar(1, 2, 3), {}, {}}));
+  EXPECT_EQ(encodeSeed({1, 2, 3, {}, {}}).size(), 3u);
+  d = decodeSeed(encodeSeed({1, 2, 3, {}, {}}));
   ASSERT_TRUE(d);
   EXPECT_FALSE(d->sigma_xy_m || d->sigma_yaw_rad);
   EXPECT_FALSE(decodeSeed(std::vector<uint32_t>(4)));

@@ -68,17 +68,17 @@ TEST(ProtocolServer, Pose) {
 TEST(ProtocolServer, SetPoseAndGlobalLocalization) {
   TestServer t;
   auto c = t.connect();
-  ok(*c, cmd::SETPOSE, encodeSeed({Pose::planar(4, 5, 1.0), 0.3, 0.2}));
+  ok(*c, cmd::SETPOSE, encodeSeed({4, 5, 1.0, 0.3, 0.2}));
   {
     auto l = t.handler.lock();
     ASSERT_TRUE(t.handler.last_seed);
-    EXPECT_NEAR(t.handler.last_seed->pose.x(), 4, 1e-6);
+    EXPECT_NEAR(t.handler.last_seed->x, 4, 1e-6);
     EXPECT_NEAR(*t.handler.last_seed->sigma_yaw_rad, 0.2, 1e-6);
   }
   ok(*c, cmd::GETPOSE, {}, Status::PoseUncertain);  // the fake's state after a seed
-  ok(*c, cmd::SETPOSE, encodeSeed({Pose::planar(1, 2, 3), {}, {}}));
+  ok(*c, cmd::SETPOSE, encodeSeed({1, 2, 3, {}, {}}));
   EXPECT_FALSE((t.handler.lock(), t.handler.last_seed->sigma_xy_m));
-  ok(*c, cmd::SETPOSE, encodeSeed({Pose::planar(5000, 0, 0), {}, {}}), Status::BadArgument);  // the handler's no
+  ok(*c, cmd::SETPOSE, encodeSeed({5000, 0, 0, {}, {}}), Status::BadArgument);  // the handler's no
   const float nan = std::numeric_limits<float>::quiet_NaN();
   ok(*c, cmd::SETPOSE, {f32(nan), 0, 0}, Status::BadArgument);
   ok(*c, cmd::SETPOSE, {0, 0, 0, f32(-1.0f), 0}, Status::BadArgument);

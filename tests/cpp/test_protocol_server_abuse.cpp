@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <thread>
 #include <sys/socket.h>
 
 using namespace polyloc::protocol;
@@ -123,6 +125,23 @@ TEST(ProtocolServerAbuse, IdleClientIsClosed) {
   expectPing(*c);
   EXPECT_TRUE(c->waitClosed(2000));
   EXPECT_TRUE(eventually([&] { return t.server.counters().closed_idle == 1; }));
+}
+
+TEST(ProtocolServerAbuse, SilentClientsAreClosedAndFreeTheirPlaces) {
+  // Clients that connect and never send a frame would hold every place until the idle timeout.
+  ServerConfig cfg;
+  cfg.max_clients = 2;
+  cfg.first_frame_timeout_ms = 200;
+  TestServer t(cfg);
+  auto a = t.connect(), b = t.connect();
+  EXPECT_EQ(frameError(*a), Status::FrameTimeout);
+  EXPECT_EQ(frameError(*b), Status::FrameTimeout);
+  ASSERT_TRUE(eventually([&] { return t.server.counters().open == 0; }));
+  EXPECT_EQ(t.server.counters().closed_frame_timeout, 2u);
+  auto c = t.connect();
+  expectPing(*c);  // a client that speaks is served, and kept past the first-frame timeout
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  expectPing(*c);
 }
 
 TEST(ProtocolServerAbuse, SlowClientIsClosedWhileOthersAreServed) {

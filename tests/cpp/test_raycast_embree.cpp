@@ -209,3 +209,30 @@ TEST(EmbreeCaster, RejectsEmptyMap) {
   Mesh empty;
   EXPECT_THROW(EmbreeCaster{empty}, std::invalid_argument);
 }
+
+// Embree asserts (SIGABRT) on a ray with a coordinate beyond ~1.8e18 or a NaN window; the caster
+// reports such a ray as a miss, and the good rays of the same packet are unaffected.
+TEST_F(Room, RaysOutsideEmbreesDomainAreMisses) {
+  const float big = 1e19f, nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(cast({big, 0, 1}, {1, 0, 0}), kInf);
+  EXPECT_EQ(cast({0, 0, 1}, {1, 0, 0}, nan, kInf), kInf);
+  EXPECT_EQ(cast({0, 0, 1}, {1, 0, 0}, 0.f, nan), kInf);
+  EXPECT_NEAR(cast({0, 0, 1}, {1, 0, 0}), 2.f, 1e-5);
+  const std::vector<float> ox = {0, big, 0}, oy = {0, 0, 0}, oz = {1, 1, 1};
+  const std::vector<float> dx = {1, 1, 1e30f}, dy = {0, 0, 0}, dz = {0, 0, 0};
+  std::vector<float> r(3);
+  caster.castRays({ox.data(), oy.data(), oz.data(), dx.data(), dy.data(), dz.data(), nullptr, nullptr, 3}, {r.data()});
+  EXPECT_NEAR(r[0], 2.f, 1e-5);
+  EXPECT_EQ(r[1], kInf);
+  EXPECT_EQ(r[2], kInf);
+  const BeamSet beams = horizontalFan(16);
+  std::vector<float> range(beams.size() * 2);
+  const Pose poses[2] = {Pose::fromXYZRPY(1e19, 0, 1, 0, 0, 0), Pose::fromXYZRPY(0, 0, 1, 0, 0, 0)};
+  caster.castScans(poses, beams, {range.data()});
+  for (size_t b = 0; b < beams.size(); ++b) EXPECT_EQ(range[b], kInf) << b;
+  EXPECT_NEAR(range[beams.size()], 2.f, 1e-5);  // the sane pose's forward beam
+  const std::vector<Eigen::Vector3f> pts = {{big, 0, 1}, {0, 0, 1}};
+  std::vector<uint8_t> free(2);
+  caster.queryFree(pts, 0.1f, free.data());
+  EXPECT_EQ(free, (std::vector<uint8_t>{0, 1}));
+}

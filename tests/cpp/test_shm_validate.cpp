@@ -103,7 +103,13 @@ TEST(ShmValidate, NaNOdometryAndAllNaNScan) {
   const auto d = desc("scan/front", POLYLOC_KIND_RANGES, 270);
   auto b = scan(270, kNow, NAN);
   expectReject(shm::validateInput(d, 44, b.data(), b.size(), rules()), Reject::NaN,
-               "scan/front frame 44: all 270 ranges are NaN or inf");
+               "scan/front frame 44: none of the 270 ranges is a distance");
+  b = scan(270, kNow, 1e19f);  // finite, but no distance a scanner measures
+  expectReject(shm::validateInput(d, 45, b.data(), b.size(), rules()), Reject::NaN, "beyond 10000 m");
+  o.qw = 1;
+  o.x = 1e19;
+  expectReject(shm::validateInput(od, 46, reinterpret_cast<const uint8_t*>(&o), sizeof o, rules()), Reject::NaN,
+               "odom frame 46: x is 10000000000000000000");
   EXPECT_STREQ(shm::toString(Reject::NaN), "nan");
 }
 

@@ -5,7 +5,7 @@
 //   TrajectoryMetrics m = evaluateTrajectory(estimates, GroundTruth(readTum("gt.tum")));
 //   m.all.ate_rmse_m, m.converged_after_s, m.after_convergence.p95_pos_err_m, m.frames[i]...
 //
-// Convergence (docs/localization.md, "Metrics"): the first frame from which every frame of the
+// Convergence (docs/localization.md, "Metrics"): the first frame with status tracking from which every frame of the
 // next `hold_s` seconds has a planar position error < `pos_m` and |yaw error| < `yaw_deg`,
 // and the run lasts at least `hold_s` beyond it. Later divergence does not undo it: frames
 // after the convergence time all count in `after_convergence`, so a lost track shows there.

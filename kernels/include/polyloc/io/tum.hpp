@@ -2,6 +2,7 @@
 // '#' comments. The format of the TUM RGB-D benchmark and of evo.
 #pragma once
 
+#include <polyloc/io/atomic_file.hpp>
 #include <polyloc/geometry/pose.hpp>
 #include <polyloc/io/error.hpp>
 
@@ -32,13 +33,18 @@ class TumReader {  // streams; bad lines are skipped and counted with file:line 
 
 std::vector<StampedPose> readTum(const std::string& path);  // whole file, for small inputs
 
+// Writes a temporary beside `path` and renames it into place when closed, or when destroyed
+// other than by an exception (io/atomic_file.hpp): the old file stays until the new one is whole.
 class TumWriter {
  public:
-  explicit TumWriter(const std::string& path);  // throws IoError
+  explicit TumWriter(const std::string& path);  // throws IoError (now, not at the end of a run)
+  ~TumWriter();
   void write(const StampedPose& p);  // throws IoError naming the file when writing fails
+  void close();                      // throws IoError
 
  private:
   std::string path_;
+  AtomicFile file_;
   std::ofstream out_;
 };
 

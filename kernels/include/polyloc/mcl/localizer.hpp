@@ -17,6 +17,8 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <string>
 #include <span>
 #include <vector>
 
@@ -37,6 +39,12 @@ struct MclEstimate {
   // Share of the round's beams that ended beyond the map's surface at the estimate (fit_check.hpp)
   double seen_through = 0;
   bool contradicted = false;  // seen_through above mcl.fit.max_seen_through: the round doubts the estimate
+  // Map fit: share of the beams the map explains at the estimate, smoothed over rounds (mcl.fit);
+  // overall and per rig sensor (index as in the rig), -1 until measured. Below
+  // mcl.fit.min_explained (`unfit`) the status is never tracking.
+  double map_fit = -1;
+  std::vector<double> sensor_fit;
+  bool unfit = false;
 };
 
 // Particles, structure of arrays; orientation as unit quaternion, weights in log space.
@@ -51,7 +59,8 @@ struct ParticleSet {
 // Counted rejections and events, for logs and the health channel.
 struct MclCounters {
   uint64_t odometry = 0, odometry_out_of_order = 0, odometry_gaps = 0;
-  uint64_t odometry_invalid = 0;           // non-finite pose
+  uint64_t odometry_invalid = 0;           // non-finite pose, or a coordinate beyond domain::kMaxCoordinate
+  uint64_t poses_rejected = 0;             // initPose outside the map or its domain
   uint64_t particles_blocked = 0;          // weights zeroed: in solid or closer than the clearance
   uint64_t blocked_ignored = 0;            // blocked, but holding most of the weight: kept (blocked_max_mass)
   uint64_t weights_collapsed = 0;          // updates where every weight was zero (made uniform)
@@ -59,6 +68,7 @@ struct MclCounters {
   uint64_t updates = 0, resamples = 0, injected = 0;
   uint64_t relocalizations = 0;  // global re-initialisations after a kidnapping (relocalize_rounds)
   uint64_t contradicted = 0;     // rounds whose beams saw through the map at the estimate (mcl.fit)
+  uint64_t unfit = 0;            // rounds whose smoothed map fit was below mcl.fit.min_explained
   uint64_t refinements = 0, refinements_refused = 0;  // mcl.refine: accepted, refused
   uint64_t hypotheses = 0;  // refined modes planted back in global localisation (mcl.hypotheses)
 };
@@ -73,7 +83,11 @@ class Localizer {
             const RayCaster* weigh = nullptr);
   ~Localizer();
 
-  void initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);
+  // Refuses (returns false, counts poses_rejected, changes nothing) a pose outside the map's box
+  // plus domain::kMapMargin, or spreads outside their domain (geometry/domain.hpp); checkPose
+  // gives the reason.
+  bool initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);
+  std::optional<std::string> checkPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance) const;
   void initGlobal(int64_t stamp_ns);  // uniform over free floor space where the robot can stand
 
   // Cumulative odometry pose (odom_T_base), as nav_msgs/Odometry gives it. Older than the last
