@@ -50,7 +50,8 @@ Rig rigPreset(const std::string& name) {
 }
 
 Pose parseMount(ConfigMap m) {
-  const double x = m.getDouble("x", 0), y = m.getDouble("y", 0), z = m.getDouble("z", 0);
+  // A sensor sits on the robot: a mount 1e19 m away is a typo, not a position (docs/failure.md).
+  const double x = m.getDouble("x", 0, -100, 100), y = m.getDouble("y", 0, -100, 100), z = m.getDouble("z", 0, -100, 100);
   const double roll = m.getAngle("roll", 0), pitch = m.getAngle("pitch", 0),
                yaw = m.getAngle("yaw", 0);
   m.finish();

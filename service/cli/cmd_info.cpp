@@ -88,7 +88,13 @@ void printText(const InfoArgs& args, const Summary& s) {
                s.stamps.bad());
   else
     fmt::print("duration:  {:.3f} s\n", s.durationS());
-  fmt::print("start:     {}\nend:       {}\nmessages:  {}\n", timeText(s.start_ns), timeText(s.end_ns), s.messages);
+  fmt::print("start:     {}\nend:       {}\n", timeText(s.start_ns), timeText(s.end_ns));
+  // The index (an MCAP summary, a bag's metadata.yaml) may claim messages that cannot be read.
+  if (!args.quick && s.stats.messages != s.messages)
+    fmt::print("messages:  {} readable of the {} its index lists ({} records rejected: below)\n", s.stats.messages,
+               s.messages, s.stats.rejected);
+  else
+    fmt::print("messages:  {}\n", s.messages);
   size_t name_w = 5, type_w = 4;
   for (const auto& t : s.topics) name_w = std::max(name_w, t.name.size()), type_w = std::max(type_w, t.type.size());
   fmt::print("\n{:<{}}  {:<{}}  {:>10}  {:>9}\n", "topic", name_w, "type", type_w, "count", "rate Hz");
@@ -123,6 +129,7 @@ void printJson(const InfoArgs& args, const Summary& s) {
                             {"stamps_not_increasing", stamps}, {"notes", s.stats.notes},
                             {"restamp_hz", args.restamp_hz > 0 ? nlohmann::json(args.restamp_hz) : nlohmann::json(nullptr)},
                             {"end_ns", s.end_ns},       {"messages", s.messages},
+                            {"messages_readable", args.quick ? nlohmann::json(nullptr) : nlohmann::json(s.stats.messages)},
                             {"topics", topics},         {"rejected", s.stats.rejected},
                             {"warnings", s.stats.warnings}};
   // Paths and warnings come from files: replace bytes that are not UTF-8 rather than throw.

@@ -34,7 +34,7 @@ DaemonConfig parseDaemonConfig(ConfigMap m) {
     } else {
       ConfigMap p = v.asMap();
       InitPose ip;
-      ip.pose = Pose::fromXYZRPY(p.getDouble("x", 0), p.getDouble("y", 0), p.getDouble("z", 0), 0, 0, p.getAngle("yaw", 0));
+      ip.pose = Pose::fromXYZRPY(p.getDouble("x", 0, -1e6, 1e6), p.getDouble("y", 0, -1e6, 1e6), p.getDouble("z", 0, -1e6, 1e6), 0, 0, p.getAngle("yaw", 0));
       ip.sigma_xy = p.getDouble("sigma_xy", ip.sigma_xy, 0, 100);
       ip.sigma_yaw = p.getAngle("sigma_yaw", ip.sigma_yaw);
       p.finish();
