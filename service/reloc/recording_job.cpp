@@ -254,6 +254,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"records_rejected", rs.rejected},
                   {"odometry", c.odometry},
                   {"odometry_out_of_order", c.odometry_out_of_order},
+                  {"odometry_invalid", c.odometry_invalid},
                   {"odometry_gaps", c.odometry_gaps},
                   {"scans", c.scans},
                   {"scans_rejected", c.scans_rejected + wrong_size + wrong_geometry + bad_image},

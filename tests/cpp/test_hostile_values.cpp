@@ -1,15 +1,24 @@
 // The property of docs/failure.md, swept: every value of {0, -0, tiny, 1e19, 1e300, -1e300, inf,
 // nan} in every numeric field of polylocd's inputs (odometry and scan frames on shared memory,
-// SETPOSE's x, y, yaw and spreads) against a running daemon: the daemon lives, each value is
+// SETPOSE's x, y, yaw and spreads, a recording's odometry and scans) against a running daemon
+// and the recording job: the daemon lives, each value is
 // taken or refused exactly as its domain says, refusals are counted with their reason, and the
 // pose published before survives.
 #include "pipeline/control.hpp"
+#include "reloc/recording_job.hpp"
+#include "reloc/report.hpp"
+#include "sim_fixtures.hpp"
 #include "pipeline/daemon.hpp"
 #include "pipeline/shm_payloads.hpp"
 #include "shm/channel.hpp"
 #include "shm_fixtures.hpp"
 
 #include <polyloc/geometry/domain.hpp>
+#include <polyloc/io/memory_recording.hpp>
+#include <polyloc/map/load.hpp>
+#include <polyloc/raycast/embree.hpp>
+#include <polyloc/sim/scenario.hpp>
+#include <polyloc/sim/simulator.hpp>
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -152,4 +161,40 @@ TEST_F(HostileValues, EveryValueInEverySetposeFieldIsBadArgumentOutsideItsDomain
     }
   EXPECT_EQ(refused, 5u * 5u);  // 1e19, +-1e300, inf, nan in each field (1e19 m is off the map, 1e19 rad beyond 100)
   EXPECT_EQ(accepted, 5u * 3u);
+}
+
+// The same values in a recording's fields (odometry position, every range of a scan) through
+// the recording job localize and relocalize use: a value outside its domain is ignored and
+// counted (odometry_invalid; beams outside the sensor's range are no returns), the run goes on
+// and its accuracy holds.
+TEST(HostileRecording, EveryValueInTheOdometryAndScansLeavesTheRunOnTrack) {
+  Scenario s = loadScenario(std::string(POLYLOC_SOURCE_DIR) + "/maps/scenarios/lab_tour.yaml");
+  s.duration = 3;
+  Simulator sim(s, loadScenarioMap(s));
+  test::CaptureWriter rec;
+  sim.run(rec);
+  const PolylocConfig cfg = loadConfig(std::string(POLYLOC_SOURCE_DIR) + "/maps/config/lab.yaml");
+  const Mesh mesh = loadMesh(cfg.map.file, cfg.map.load);
+  EmbreeCaster caster(mesh);
+  for (double v : kValues) {
+    auto msgs = std::make_shared<std::vector<RecordedMessage>>();
+    size_t odom_seen = 0, scans_seen = 0;
+    for (const auto& e : rec.entries) {
+      RecordedMessage m{e.topic, e.stamp, e.stamp, e.message};
+      if (auto* o = std::get_if<msg::Odometry>(&m.message); o && ++odom_seen == 40) o->pose.pose.position.x = v;
+      if (auto* l = std::get_if<msg::LaserScan>(&m.message); l && ++scans_seen % 25 == 0)
+        std::fill(l->ranges.begin(), l->ranges.end(), float(v));
+      msgs->push_back(std::move(m));
+    }
+    reloc::JobOptions jo;
+    jo.input = fmt::format("lab tour with {}", v);
+    jo.open = [msgs] { return readMemory(msgs); };
+    const reloc::JobResult r = reloc::runRecordingJob({cfg, mesh, caster, nullptr}, jo);
+    const bool odom_ok = std::isfinite(v) && std::fabs(v) <= domain::kMaxCoordinate;
+    EXPECT_EQ(r.counters.at("odometry_invalid"), odom_ok ? 0u : 1u) << v;
+    const auto m = reloc::evaluate(r);
+    ASSERT_TRUE(m) << v;
+    EXPECT_LT(m->all.p95_pos_err_m, 0.05) << v;
+    EXPECT_EQ(r.final_status, MclStatus::Tracking) << v;
+  }
 }
