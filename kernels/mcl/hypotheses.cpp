@@ -88,14 +88,16 @@ size_t plantHypotheses(ParticleSet& s, std::span<const Hypothesis> hyps, const G
   return n;
 }
 
+bool samePlace(const Pose& a, const Pose& b) {
+  return (a.translation() - b.translation()).head<2>().norm() <= 1.0 && std::abs(angleDiff(a.yaw(), b.yaw())) <= 0.5;
+}
+
 void trackPlaces(std::vector<TrackedPlace>& places, std::span<const Hypothesis> hyps, const Pose& moved) {
   for (TrackedPlace& t : places) t.pose = t.pose * moved;
   std::vector<double> gain(places.size(), 0.0);
   for (const Hypothesis& h : hyps) {
     size_t k = 0;
-    while (k < places.size() && !((places[k].pose.translation() - h.pose.translation()).head<2>().norm() <= 1.0 &&
-                                  std::abs(angleDiff(places[k].pose.yaw(), h.pose.yaw())) <= 0.5))
-      ++k;
+    while (k < places.size() && !samePlace(places[k].pose, h.pose)) ++k;
     if (k == places.size()) places.push_back({h.pose, 0.0, 0}), gain.push_back(0.0);
     if (h.inlier_ratio > gain[k]) gain[k] = h.inlier_ratio, places[k].pose = h.pose;
   }

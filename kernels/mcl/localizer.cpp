@@ -353,9 +353,7 @@ struct Localizer::Impl {
     size_t places = 0;
     for (size_t i = 0; i < hyps.size(); ++i) {
       bool distinct = true;
-      for (size_t k = 0; k < i && distinct; ++k)
-        distinct = (hyps[i].pose.translation() - hyps[k].pose.translation()).head<2>().norm() > 1.0 ||
-                   std::abs(angleDiff(hyps[i].pose.yaw(), hyps[k].pose.yaw())) > 0.5;
+      for (size_t k = 0; k < i && distinct; ++k) distinct = !samePlace(hyps[i].pose, hyps[k].pose);
       places += distinct;
     }
     ambiguous = places > 1;

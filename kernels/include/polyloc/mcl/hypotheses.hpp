@@ -53,6 +53,10 @@ struct TrackedPlace {
   size_t missed = 0;  // rounds in a row that did not
 };
 
+// Two poses are one place within 1 m and 0.5 rad (the global rounds' places, the count of
+// distinct refined modes).
+bool samePlace(const Pose& a, const Pose& b);
+
 // One round: every place moved by `moved` (the base's motion since the last round, base frame);
 // each hypothesis matched to the first place within 1 m and 0.5 rad (or a new place), a place
 // found adds the best inlier share among its matches and takes that pose; a place missed in two
