@@ -167,10 +167,12 @@ Request makeRequest(const CtlArgs& a) {
                                   {"taken", in.taken},
                                   {"rejected", in.rejected},
                                   {"silence_s", in.silence_s},
-                                  {"silent", in.silent}});
+                                  {"silent", in.silent},
+                                  {"map_fit", in.map_fit < 0 ? json(nullptr) : json(in.map_fit)}});
               return json{{"stamp_ns", h->stamp_ns},
                           {"uptime_s", h->uptime_s},
                           {"pose_status", poseStatusName(h->pose_status)},
+                          {"unfit", h->unfit},
                           {"cycles", h->cycles},
                           {"poses", h->poses},
                           {"vrs", h->vrs},

@@ -119,8 +119,10 @@ protocol::HealthReport DaemonControl::health() {
     in.silent = x.silent != 0;
     if (dt > 0) in.rate_hz = double(x.taken - prev_->input[i].taken) / dt;
     if (x.last_stamp_ns) in.silence_s = std::max(0.0, double(h.stamp_ns - x.last_stamp_ns) * 1e-9);
+    if (x.map_fit_permille > 0) in.map_fit = double(x.map_fit_permille) / 1000.0;
     r.inputs.push_back(in);
   }
+  r.unfit = (h.flags & 4u) != 0;
   // Rates over at least a second: a client polling fast would otherwise see 0 or noise.
   if (!prev_ || std::chrono::duration<double>(now - prev_time_).count() > 1.0) prev_ = h, prev_time_ = now;
   return r;

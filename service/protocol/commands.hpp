@@ -8,7 +8,7 @@
 namespace polyloc::protocol {
 
 // Protocol version: major << 16 | minor. A new minor only adds commands or trailing words.
-inline constexpr uint32_t kProtocolVersion = 0x00010000;  // 1.0
+inline constexpr uint32_t kProtocolVersion = 0x00010001;  // 1.1: GETSTATUS carries the map fit
 
 namespace cmd {
 inline constexpr uint32_t PING = 0x00000000;

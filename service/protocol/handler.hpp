@@ -81,6 +81,7 @@ struct InputStatus {
   uint64_t rejected = 0;  // for any reason (NaN, size, stale, future)
   double silence_s = 0;   // since the last frame taken
   bool silent = false;    // silence over the input timeout
+  double map_fit = -1;    // share of its beams the map explains at the estimate, smoothed; -1: not measured
 };
 
 struct HealthReport {
@@ -91,6 +92,7 @@ struct HealthReport {
   double pose_rate_hz = 0;
   double cycle_p50_ms = 0, cycle_p99_ms = 0;
   std::vector<InputStatus> inputs;
+  bool unfit = false;  // the scans do not fit the map (mcl.fit.min_explained): never tracking
 };
 
 class ControlHandler {

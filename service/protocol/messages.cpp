@@ -210,6 +210,9 @@ Words encodeHealth(const HealthReport& h) {
     w.u32(in.silent ? 1 : 0);
     w.str(in.name);
   }
+  // Protocol 1.1 appends the map fit: u32 unfit, then per input f32 map_fit (-1: not measured).
+  w.u32(h.unfit ? 1 : 0);
+  for (const auto& in : h.inputs) w.f32(in.map_fit);
   return w.take();
 }
 
@@ -232,6 +235,10 @@ std::optional<HealthReport> decodeHealth(WordSpan data) {
     in.silence_s = r.f32();
     in.silent = r.u32() != 0;
     in.name = r.str();
+  }
+  if (r.ok() && !r.done()) {  // a 1.1 server: the map fit follows (a 1.0 reply ends here)
+    h.unfit = r.u32() != 0;
+    for (auto& in : h.inputs) in.map_fit = r.f32();
   }
   return doneOr(r, std::move(h));
 }

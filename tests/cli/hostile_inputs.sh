@@ -133,6 +133,13 @@ assert j["accuracy"]["p95_pos_err_m"] < 0.1, j["accuracy"]
 fit = [v["map_fit"] for v in j["polylocd"]["inputs"].values() if v["map_fit"] is not None]
 assert fit and min(fit) > 0.5, fit  # the simulated lab fits its own map
 PYEOF
+"$POLYLOC" ctl --port "$port" status --json > "$tmp/status.json" || fail "ctl status"
+python3 - "$tmp/status.json" <<'PYEOF'
+import json, sys
+j = json.load(open(sys.argv[1]))
+fit = {i["name"]: i["map_fit"] for i in j["inputs"]}
+assert j["unfit"] is False and fit["odom"] is None and fit["scan/s300_front_left"] > 0.5, j
+PYEOF
 kill -TERM $pid
 wait $pid
 pid=

@@ -39,7 +39,7 @@ std::string session() {
     out += hexLines("<-", encodeFrame(reply));
   };
   step("PING", cmd::PING, {});
-  step("CHECKPROTOCOL, client version 1.0", cmd::CHECKPROTOCOL, {kProtocolVersion});
+  step("CHECKPROTOCOL, client version 1.1", cmd::CHECKPROTOCOL, {kProtocolVersion});
   step("GETPOSE: x 1.25 m, y -2.5 m, yaw 0.5 rad, stamp 1700000000123456789 ns", cmd::GETPOSE, {});
   step("SETPOSE x 2 m, y 1 m, yaw 90 deg, sigma_xy 0.25 m, sigma_yaw 10 deg", cmd::SETPOSE,
        encodeSeed({2.0, 1.0, deg2rad(90), 0.25, deg2rad(10)}));

@@ -153,12 +153,21 @@ TEST(ProtocolMessages, ScanScannersTracksHealthRoundTrip) {
 
   HealthReport h;
   h.cycles = 1ull << 40;
-  h.inputs.push_back({"scan/front", 10, 1, 2, 0.5, true});
-  const auto dh = decodeHealth(encodeHealth(h));
+  h.inputs.push_back({"scan/front", 10, 1, 2, 0.5, true, 0.875});
+  h.unfit = true;
+  const Words words = encodeHealth(h);
+  const auto dh = decodeHealth(words);
   ASSERT_TRUE(dh && dh->inputs.size() == 1);
   EXPECT_EQ(dh->cycles, 1ull << 40);
   EXPECT_EQ(dh->inputs[0].name, "scan/front");
   EXPECT_TRUE(dh->inputs[0].silent);
+  EXPECT_EQ(dh->inputs[0].map_fit, 0.875);
+  EXPECT_TRUE(dh->unfit);
+  // A 1.0 server's reply (no map fit after the inputs) still decodes: fit not measured.
+  const auto old = decodeHealth(WordSpan(words).first(words.size() - 2));
+  ASSERT_TRUE(old && old->inputs.size() == 1);
+  EXPECT_EQ(old->inputs[0].map_fit, -1);
+  EXPECT_FALSE(old->unfit);
 }
 
 TEST(ProtocolMessages, CorruptCountsAreRejectedWithoutAllocating) {
