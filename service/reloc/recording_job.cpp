@@ -10,7 +10,9 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -128,6 +130,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   const double progress_ns = std::max<double>(1.0, double(to_ns - from_ns));
 
   std::vector<float> ranges;
+  uint64_t no_range = 0;
   uint64_t read = 0, unknown_sensor = 0, wrong_size = 0, wrong_geometry = 0, bad_image = 0, disabled = 0;
   StampCheck stamps;
   bool initialised = false;
@@ -200,6 +203,12 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       case TopicRouter::Kind::Frame: break;
     }
     any_frame = true;
+    // A frame without one range that is a distance (all NaN, inf, negative or beyond 1e4 m) is
+    // refused by the filter; say why, once per topic.
+    if (std::none_of(ranges.begin(), ranges.end(), [](float v) { return std::isfinite(v) && v > 0 && v <= 1e4f; })) {
+      ++no_range, warn("range " + m.topic, m.topic + ": a frame with no valid range (all NaN, inf, 0 or beyond 1e4 m): rejected");
+      continue;
+    }
     if (!initialised) {
       if (r.stamp_ns < start_after) {  // before the ground truth begins: where the robot was is unknown
         ++before_start;
@@ -257,11 +266,12 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"odometry_invalid", c.odometry_invalid},
                   {"odometry_gaps", c.odometry_gaps},
                   {"scans", c.scans},
-                  {"scans_rejected", c.scans_rejected + wrong_size + wrong_geometry + bad_image},
+                  {"scans_rejected", c.scans_rejected + wrong_size + wrong_geometry + bad_image + no_range},
                   {"scans_wrong_size", wrong_size},
                   {"scans_wrong_geometry", wrong_geometry},
                   {"stamps_not_increasing", stamps.bad()},
                   {"scans_bad_image", bad_image},
+                  {"scans_no_valid_range", no_range},
                   {"scans_unknown_sensor", unknown_sensor},
                   {"scans_disabled", disabled},
                   {"scans_before_start", before_start},

@@ -178,12 +178,12 @@ TEST(HostileRecording, EveryValueInTheOdometryAndScansLeavesTheRunOnTrack) {
   EmbreeCaster caster(mesh);
   for (double v : kValues) {
     auto msgs = std::make_shared<std::vector<RecordedMessage>>();
-    size_t odom_seen = 0, scans_seen = 0;
+    size_t odom_seen = 0, scans_seen = 0, scans_changed = 0;
     for (const auto& e : rec.entries) {
       RecordedMessage m{e.topic, e.stamp, e.stamp, e.message};
       if (auto* o = std::get_if<msg::Odometry>(&m.message); o && ++odom_seen == 40) o->pose.pose.position.x = v;
       if (auto* l = std::get_if<msg::LaserScan>(&m.message); l && ++scans_seen % 25 == 0)
-        std::fill(l->ranges.begin(), l->ranges.end(), float(v));
+        std::fill(l->ranges.begin(), l->ranges.end(), float(v)), ++scans_changed;
       msgs->push_back(std::move(m));
     }
     reloc::JobOptions jo;
@@ -192,6 +192,10 @@ TEST(HostileRecording, EveryValueInTheOdometryAndScansLeavesTheRunOnTrack) {
     const reloc::JobResult r = reloc::runRecordingJob({cfg, mesh, caster, nullptr}, jo);
     const bool odom_ok = std::isfinite(v) && std::fabs(v) <= domain::kMaxCoordinate;
     EXPECT_EQ(r.counters.at("odometry_invalid"), odom_ok ? 0u : 1u) << v;
+    // None of the values is a distance a scanner measures (1e-300 is 0 as a float): every
+    // changed scan is refused, with its reason.
+    EXPECT_EQ(r.counters.at("scans_no_valid_range"), scans_changed) << v;
+    EXPECT_GT(scans_changed, 5u);
     const auto m = reloc::evaluate(r);
     ASSERT_TRUE(m) << v;
     EXPECT_LT(m->all.p95_pos_err_m, 0.05) << v;
