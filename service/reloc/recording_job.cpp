@@ -282,7 +282,6 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"relocalizations", c.relocalizations},
                   {"contradicted", c.contradicted},
                   {"unfit", c.unfit},
-                  {"map_fit", loc.estimate().map_fit},
                   {"hypotheses", c.hypotheses},
                   {"particles_blocked", c.particles_blocked},
                   {"blocked_ignored", c.blocked_ignored},

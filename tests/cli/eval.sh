@@ -1,6 +1,8 @@
 #!/bin/bash
 # polyloc eval global|kidnap: a few short trials on the bundled lab; the JSON has the documented
-# fields and sane values; bad options are errors that name the option.
+# fields; the trials succeed as docs/benchmarks.md says they do (global: every start within 2
+# rounds, the median and worst of 50 are 1 and 2; kidnap: recovered), to a few millimetres; bad
+# options are errors that name the option. The trials are seeded: the same answer every run.
 set -euo pipefail
 POLYLOC=$1
 SRC=$2
@@ -11,11 +13,12 @@ echo "$out" | "$PY" -c '
 import json, sys
 j = json.load(sys.stdin)
 assert j["mode"] == "global" and j["trials"] == 2, j
-assert 0 <= j["succeeded"] <= 2 and j["fraction"] == j["succeeded"] / 2, j
+assert j["succeeded"] == 2 and j["fraction"] == 1.0, j
 assert j["rounds_allowed"] == 5 and j["particles"] == 20000, j
 for r in j["results"]:
     assert r["rounds"] == 8, r              # rounds + hold: the drive is long enough
-    assert r["final_pos_err_m"] >= 0 and r["converged"] == (0 < r["converged_round"] <= 5), r
+    assert r["converged"] and 0 < r["converged_round"] <= 3, r    # worst of 50 is 2 (x1.5)
+    assert 0 <= r["final_pos_err_m"] < 0.015 and abs(r["final_yaw_err_deg"]) < 0.5, r
 print("global ok:", j["succeeded"], "of", j["trials"])
 '
 tmp=$(mktemp -d)
@@ -25,7 +28,9 @@ echo "$out" | "$PY" -c '
 import json, sys
 j = json.load(sys.stdin)
 assert j["mode"] == "kidnap" and j["trials"] == 1 and j["kidnap_after_rounds"] == 5, j
-assert j["results"][0]["rounds"] == 12, j
+r = j["results"][0]
+assert r["rounds"] == 12, j
+assert j["succeeded"] == 1 and r["converged"] and r["final_pos_err_m"] < 0.015, j  # recovered, to mm
 print("kidnap ok")
 '
 test -s "$tmp/k.png"

@@ -69,6 +69,15 @@ import json, sys, os
 d = sys.argv[1]
 load = lambda n: json.load(open(os.path.join(d, n)))
 play, pose, sc, scan, ca, st = (load(n) for n in ("play.json", "pose.json", "scanners.json", "scan.json", "ca.json", "status.json"))
+# The answers, not only that there are some: the pose polylocd tracks, the lisa rig's six planar
+# scanners behind the VRS, a scan of the first one's beam count, the switch just set, the status.
+assert pose["pose_status"] == "tracking" and pose["particles"] > 0, pose
+names = [s["name"] for s in sc["scanners"]]
+assert names[0] == "vrs" and len(names) == 7, names
+assert scan["beams"] == sc["scanners"][1]["beams"] > 0, (scan["beams"], sc["scanners"][1])
+assert ca["collision_avoidance"] is False, ca
+assert st["pose_status"] == "tracking" and st["unfit"] is False and len(st["inputs"]) == 8, st
+assert all(i["taken"] > 0 for i in st["inputs"]), st["inputs"]
 print("ctl getpose:", json.dumps(pose)[:200])
 print("ctl scanners:", json.dumps(sc)[:200])
 print("ctl status:", json.dumps(st)[:300])

@@ -31,13 +31,13 @@ assert bad["status"] == "failed" and bad["errors"] and "bad.mcap" in bad["errors
 assert [m["input"].endswith("bad.mcap") for m in s1["missing"]] == [True], s1["missing"]
 s2 = json.loads(open(f"{tmp}/out2").read())
 assert s2["all_succeeded"] is True and s2["jobs"] == 2, s2
-assert s2["accuracy"]["frames"] > 20 and s2["accuracy"]["ate_rmse_m"] < 0.3, s2["accuracy"]
+assert s2["accuracy"]["frames"] > 20 and s2["accuracy"]["ate_rmse_m"] < 0.005, s2["accuracy"]  # lab_tour: 0.33 cm claimed (x1.5)
 for name in ("a", "b"):
     t1 = open(f"{tmp}/j1/{name}/trajectory.tum").read()
     t2 = open(f"{tmp}/j2/{name}/trajectory.tum").read()
     assert t1 == t2 and t1.count("\n") > 20, f"{name}: --jobs 1 and --jobs 2 differ"
     j = json.load(open(f"{tmp}/j2/{name}/summary.json"))
-    assert j["status"] == "ok" and j["init"] == "ground_truth" and j["ate_rmse_m"] < 0.3, j
+    assert j["status"] == "ok" and j["init"] == "ground_truth" and j["ate_rmse_m"] < 0.005, j
     assert j["frames"] == t2.count("\n") - sum(l.startswith("#") for l in t2.splitlines()), j["frames"]
     csv = open(f"{tmp}/j2/{name}/frames.csv").read().splitlines()
     assert "pos_err_m" in csv[0] and "cov_55" in csv[0] and csv[0].endswith(",ess,particles,seen_through,refined,map_fit"), csv[0]
