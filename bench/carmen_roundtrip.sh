@@ -19,7 +19,7 @@ u=(); [ "${UNKNOWN_OCCUPIED:-0}" = 1 ] && u=(--unknown-occupied)   # cells never
 # The taser's mounts (maps/rigs/taser.yaml): name:x:y:yaw_deg.
 PYTHONPATH="$build/python" "$python" bench/carmen_from_run.py "$out/map_run.mcap" "$out/run.log" \
   lms_front:0.33:0:0 lms_rear:-0.33:0:180
-"$build/bin/polyloc" map extrude --carmen "$out/run.log" --resolution "${RES:-0.05}" --height 2.5 "${u[@]}" \
+"$build/bin/polyloc" map extrude --carmen "$out/run.log" --resolution "${RES:-0.05}" --wall-height 2.5 "${u[@]}" \
   --out "$out/extruded.obj" --save-grid "$out/grid.yaml" --json >"$out/extrude.json"
 "$build/bin/polyloc" localize --config maps/config/office.yaml --map "$out/extruded.obj" --input "$out/loc_run.mcap" \
   --plot "$out/extruded_localize.png" --json 2>/dev/null >"$out/localize_extruded.json"

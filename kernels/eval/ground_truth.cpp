@@ -1,18 +1,15 @@
 #include <polyloc/eval/ground_truth.hpp>
+#include <polyloc/geometry/domain.hpp>
 
 #include <algorithm>
 #include <cmath>
 
 namespace polyloc {
 
-bool isFinite(const Pose& p) {
-  return p.translation().allFinite() && p.rotation().coeffs().allFinite();
-}
-
 GroundTruth::GroundTruth(std::vector<StampedPose> poses, double max_gap_s)
     : max_gap_ns_(static_cast<int64_t>(std::llround(max_gap_s * 1e9))) {
   const size_t given = poses.size();
-  std::erase_if(poses, [](const StampedPose& p) { return !isFinite(p.pose); });
+  std::erase_if(poses, [](const StampedPose& p) { return !domain::validPose(p.pose); });
   // Stable: of two poses with one stamp the first in the file wins, as a reader would expect.
   std::stable_sort(poses.begin(), poses.end(),
                    [](const StampedPose& a, const StampedPose& b) { return a.stamp_ns < b.stamp_ns; });

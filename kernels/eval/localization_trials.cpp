@@ -2,7 +2,7 @@
 #include <polyloc/eval/localization_trials.hpp>
 #include <polyloc/geometry/random.hpp>
 #include <polyloc/io/recording.hpp>
-#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/free_floor.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
@@ -124,15 +124,13 @@ size_t feed(Localizer& loc, const Drive& d, size_t from, const Pose& odom_offset
   return i;
 }
 
-double yawDiff(const Pose& a, const Pose& b) { return std::abs(std::remainder(a.yaw() - b.yaw(), 2 * M_PI)); }
-
 // The error of a round's estimate against the drive's ground truth (its stamps shifted by dt).
 // False once the trial has its rounds.
 bool recordRound(TrialResult& r, const GroundTruth& gt, const MclEstimate& e, int64_t dt, const TrialOptions& o) {
   const auto t = gt.at(e.stamp_ns - dt);
   if (!t) return true;
   r.pos_err.push_back((e.pose.translation() - t->translation()).head<2>().norm());
-  r.yaw_err.push_back(yawDiff(e.pose, *t));
+  r.yaw_err.push_back(std::abs(angleDiff(e.pose.yaw(), t->yaw())));
   return r.pos_err.size() < o.rounds + o.hold_rounds;
 }
 

@@ -1,5 +1,6 @@
 #include <polyloc/eval/stats.hpp>
 #include <polyloc/eval/trajectory_metrics.hpp>
+#include <polyloc/geometry/domain.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -71,7 +72,7 @@ TrajectoryMetrics evaluateTrajectory(std::vector<EstimatedPose> estimates, const
                    [](const EstimatedPose& a, const EstimatedPose& b) { return a.stamp_ns < b.stamp_ns; });
   const int64_t start = o.start_ns != 0 ? o.start_ns : (estimates.empty() ? 0 : estimates.front().stamp_ns);
   for (const EstimatedPose& e : estimates) {
-    const std::optional<Pose> gt = isFinite(e.pose) ? truth.at(e.stamp_ns) : std::nullopt;
+    const std::optional<Pose> gt = domain::validPose(e.pose) ? truth.at(e.stamp_ns) : std::nullopt;
     if (!gt) {
       ++m.skipped;
       continue;

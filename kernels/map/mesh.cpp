@@ -63,6 +63,25 @@ void Mesh::addQuad(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eig
   triangle_label.push_back(label);
 }
 
+void Mesh::addBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, uint32_t label,
+                  const Eigen::Vector2d& origin, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const uint32_t b = static_cast<uint32_t>(vertices.size());
+  // Vertex k: bit 0 = x, bit 1 = y, bit 2 = z. Quads listed counter-clockwise from outside.
+  for (int k = 0; k < 8; ++k) {
+    const double x = k & 1 ? hi.x() : lo.x(), y = k & 2 ? hi.y() : lo.y(), z = k & 4 ? hi.z() : lo.z();
+    vertices.emplace_back(float(origin.x() + c * x - s * y), float(origin.y() + s * x + c * y), float(z));
+  }
+  static const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                  {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    triangles.push_back({b + q[0], b + q[1], b + q[2]});
+    triangles.push_back({b + q[0], b + q[2], b + q[3]});
+    triangle_label.push_back(label);
+    triangle_label.push_back(label);
+  }
+}
+
 std::string normalizeLabel(const std::string& name) {
   std::string s;
   s.reserve(name.size());

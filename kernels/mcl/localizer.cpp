@@ -6,7 +6,7 @@
 #include <polyloc/mcl/sensor_model.hpp>
 #include <polyloc/mcl/estimate.hpp>
 #include <polyloc/mcl/fit_check.hpp>
-#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/free_floor.hpp>
 #include <polyloc/mcl/hypotheses.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/motion_model.hpp>

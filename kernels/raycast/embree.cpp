@@ -5,6 +5,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -62,6 +63,7 @@ struct EmbreeCaster::Impl {
   Mesh mesh;  // copy: labels, normals and vertices for results and clearance queries
   std::vector<float> nx, ny, nz;
   CastArena pool;
+  std::atomic<int64_t> device_bytes{0};  // Embree's memory monitor: allocated minus freed
 
   // Writes one ray's result; `dir` is the unit direction, `t0`/`t1` the window.
   void finish(const HitBuffers& out, size_t i, float tfar, unsigned prim, float dx, float dy,
@@ -92,6 +94,13 @@ EmbreeCaster::EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options) : imp
   m.device = rtcNewDevice(options.device_config.empty() ? nullptr : options.device_config.c_str());
   if (!m.device) throw std::runtime_error("Embree: cannot create device (error " +
                                           std::to_string(rtcGetDeviceError(nullptr)) + ")");
+  rtcSetDeviceMemoryMonitorFunction(
+      m.device,
+      [](void* user, ssize_t bytes, bool) {
+        static_cast<std::atomic<int64_t>*>(user)->fetch_add(bytes, std::memory_order_relaxed);
+        return true;
+      },
+      &m.device_bytes);
   m.scene = rtcNewScene(m.device);
   rtcSetSceneFlags(m.scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
   rtcSetSceneBuildQuality(m.scene, options.high_quality_bvh ? RTC_BUILD_QUALITY_HIGH
@@ -130,6 +139,13 @@ EmbreeCaster::EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options) : imp
   if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE)
     throw std::runtime_error("Embree: scene build failed for " + mesh.source);
   setThreads(options.threads);
+}
+
+size_t EmbreeCaster::memoryBytes() const {
+  const Mesh& s = impl_->mesh;
+  const size_t kept = s.vertices.size() * sizeof(Eigen::Vector3f) + s.triangles.size() * (sizeof(Triangle) + sizeof(uint32_t)) +
+                      impl_->nx.size() * 3 * sizeof(float);
+  return size_t(std::max<int64_t>(0, impl_->device_bytes.load(std::memory_order_relaxed))) + kept;
 }
 
 EmbreeCaster::~EmbreeCaster() {

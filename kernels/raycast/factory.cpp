@@ -50,12 +50,4 @@ std::unique_ptr<RayCaster> makeCaster(const std::string& name, const Mesh& mesh,
   throw std::invalid_argument("unknown ray caster '" + name + "' (known: " + known + ")");
 }
 
-size_t casterMemoryBytes(const RayCaster& c) {
-  if (const auto* b = dynamic_cast<const BspCaster*>(&c)) return b->stats().node_bytes + b->stats().triangle_ref_bytes;
-  if (const auto* g = dynamic_cast<const Grid2dCaster*>(&c)) return g->memoryBytes();
-  if (const auto* d = dynamic_cast<const Distance3dCaster*>(&c)) return d->memoryBytes();
-  if (const auto* t = dynamic_cast<const OctomapCaster*>(&c)) return t->memoryBytes();
-  return 0;
-}
-
 }  // namespace polyloc

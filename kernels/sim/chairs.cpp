@@ -25,7 +25,7 @@ struct UnionFind {
 
 }  // namespace
 
-std::vector<MeshObject> findObjects(const Mesh& mesh, const std::string& label) {
+std::vector<MeshObject> findObjects(const Mesh& mesh, const std::string& label, bool join_touching) {
   const int64_t id = mesh.findLabel(label);
   if (id < 0) return {};
   std::vector<uint32_t> tris;
@@ -50,7 +50,7 @@ std::vector<MeshObject> findObjects(const Mesh& mesh, const std::string& label) 
   }
   // Objects: solids whose bounding boxes touch (1 cm tolerance).
   UnionFind objs(boxes.size());
-  for (size_t a = 0; a < boxes.size(); ++a)
+  for (size_t a = 0; a < boxes.size() && join_touching; ++a)
     for (size_t b = a + 1; b < boxes.size(); ++b) {
       Eigen::AlignedBox3f ea = boxes[a];
       ea.min().array() -= 0.01f;

@@ -106,6 +106,14 @@ PersonSpec parsePerson(ConfigMap m, size_t index) {
   return p;
 }
 
+// A `seed` key, when given (sections: their own seed, default the scenario's).
+std::optional<uint64_t> optionalSeed(ConfigMap& m) {
+  if (!m.has("seed")) return std::nullopt;
+  const ConfigValue v = m.value("seed");
+  if (v.asInt() < 0) v.fail("must not be negative");
+  return static_cast<uint64_t>(v.asInt());
+}
+
 ChairMoves parseChairs(ConfigMap m) {
   ChairMoves c;
   c.label = m.getString("label", c.label);
@@ -123,13 +131,64 @@ ChairMoves parseChairs(ConfigMap m) {
   }
   c.random_shift = m.getDouble("random_shift", 0.0, 0.0, 10.0);
   c.random_rotation = m.getAngle("random_rotation", 0.0);
-  if (m.has("seed")) {
-    const ConfigValue v = m.value("seed");
-    if (v.asInt() < 0) v.fail("must not be negative");
-    c.seed = static_cast<uint64_t>(v.asInt());
-  }
+  c.seed = optionalSeed(m);
   m.finish();
   return c;
+}
+
+WorldSpec parseWorld(ConfigMap m) {
+  WorldSpec w;
+  if (m.has("mesh")) {
+    const ConfigValue v = m.value("mesh");
+    w.mesh = m.resolvePath(v.asString());
+    if (!std::filesystem::is_regular_file(w.mesh)) v.fail("mesh file '" + w.mesh + "' does not exist");
+  }
+  if (m.has("remove"))
+    for (const ConfigValue& v : m.value("remove").items()) {
+      ConfigMap r = v.asMap();
+      w.remove.push_back({r.value("label").asString(), point(r.value("at")), v.where()});
+      r.finish();
+    }
+  if (m.has("add"))
+    for (const ConfigValue& v : m.value("add").items()) {
+      ConfigMap a = v.asMap();
+      WorldBox b;
+      const ConfigValue bv = a.value("box");
+      const std::vector<double> c = bv.asDoubles(6);
+      b.lo = {c[0], c[1], c[2]}, b.hi = {c[3], c[4], c[5]};
+      if (!(b.lo.array() < b.hi.array()).all()) bv.fail("a box is [x0, y0, z0, x1, y1, z1] with x0 < x1, y0 < y1, z0 < z1");
+      b.yaw = a.getAngle("yaw", 0.0);
+      b.label = a.getString("label", b.label);
+      a.finish();
+      w.add.push_back(b);
+    }
+  w.wall_offset = m.getDouble("wall_offset", w.wall_offset, 0.0, 1.0);
+  if (m.has("offset_labels")) {
+    w.offset_labels.clear();
+    for (const ConfigValue& v : m.value("offset_labels").items()) w.offset_labels.push_back(v.asString());
+  }
+  if (m.has("clutter")) {
+    ConfigMap c = m.value("clutter").asMap();
+    ClutterSpec& k = w.clutter;
+    k.count = static_cast<int>(c.getCount("count", 0, 0, 10000));
+    if (c.has("size")) {
+      const std::vector<double> v = c.value("size").asDoubles(2);
+      k.size_min = v[0], k.size_max = v[1];
+      if (!(0.01 <= v[0] && v[0] <= v[1] && v[1] <= 10)) c.value("size").fail("is [min, max] with 0.01 <= min <= max <= 10 m");
+    }
+    if (c.has("height")) {
+      const std::vector<double> v = c.value("height").asDoubles(2);
+      k.height_min = v[0], k.height_max = v[1];
+      if (!(0.01 <= v[0] && v[0] <= v[1] && v[1] <= 10)) c.value("height").fail("is [min, max] with 0.01 <= min <= max <= 10 m");
+    }
+    k.route_clearance = c.getDouble("route_clearance", k.route_clearance, 0.0, 100.0);
+    k.label = c.getString("label", k.label);
+    c.finish();
+  }
+  w.subdivide = static_cast<int>(m.getCount("subdivide", 0, 0, 3));
+  w.seed = optionalSeed(m);
+  m.finish();
+  return w;
 }
 
 void parseSensorNoise(ConfigMap m, SensorNoise& n) {
@@ -137,6 +196,9 @@ void parseSensorNoise(ConfigMap m, SensorNoise& n) {
   n.sigma_slope = m.getDouble("sigma_slope", n.sigma_slope, 0.0, 1.0);
   n.sigma_rel = m.getDouble("sigma_rel", n.sigma_rel, 0.0, 1.0);
   n.bias = m.getDouble("bias", n.bias, -10.0, 10.0);
+  n.beam_bias = m.getDouble("beam_bias", n.beam_bias, 0.0, 1.0);
+  n.angle_jitter = m.getAngle("angle_jitter", n.angle_jitter);
+  if (n.angle_jitter < 0 || n.angle_jitter > 0.2) m.value("angle_jitter").fail("must be in [0, 11.5] deg");
   n.dropout = m.getDouble("dropout", n.dropout, 0.0, 1.0);
   n.max_range = m.getDouble("max_range", n.max_range, 0.0, 1.0);
   if (m.has("glass")) {
@@ -247,41 +309,56 @@ std::vector<SensorNoise> defaultSensorNoise(const Rig& rig) {
   return out;
 }
 
-Scenario loadScenario(const std::string& path) {
+namespace {
+
+constexpr int kMaxBaseDepth = 8;  // base chains longer than this are a cycle
+
+Scenario loadScenarioAt(const std::string& path, int depth) {
   ConfigMap m = ConfigMap::load(path);
   Scenario s;
+  const bool derived = m.has("base");
+  if (derived) {
+    const ConfigValue v = m.value("base");
+    const std::string file = m.resolvePath(v.asString());
+    if (!std::filesystem::is_regular_file(file)) v.fail("base scenario '" + file + "' does not exist");
+    if (depth >= kMaxBaseDepth) v.fail("more than 8 bases in a chain (a cycle?)");
+    s = loadScenarioAt(file, depth + 1);
+  }
   s.file = path;
   if (m.has("config")) {
     const ConfigValue v = m.value("config");
     const std::string file = m.resolvePath(v.asString());
     if (!std::filesystem::is_regular_file(file)) v.fail("config file '" + file + "' does not exist");
     s.config = loadConfig(file);
-  } else {
+  } else if (!derived) {
     for (const char* key : {"map", "rig"})
       if (!m.has(key)) m.fail(std::string("missing key '") + key + "' (or give config: a polyloc configuration file)");
   }
   if (m.has("map")) s.config.map = readMapConfig(m.value("map"), m);
   if (m.has("robot")) s.config.robot = parseRobot(m.value("robot").asMap());
   if (m.has("rig")) s.config.rig = readRig(m.value("rig"), m);
-  if (m.has("seed")) {
-    const ConfigValue v = m.value("seed");
-    const int64_t seed = v.asInt();
-    if (seed < 0) v.fail("must not be negative");
-    s.seed = static_cast<uint64_t>(seed);
-  }
+  if (const auto seed = optionalSeed(m)) s.seed = *seed;
   if (m.has("start_time")) s.start_time_ns = parseStartTime(m.value("start_time"));
-  s.duration = m.getDouble("duration", 0.0, 0.0, 1e7);
-  s.route = parseRoute(m.value("route").asMap());
-  s.floor = parseFloor(m.map("floor"));
+  s.duration = m.getDouble("duration", s.duration, 0.0, 1e7);
+  // Sections: required (route) or defaulted in a scenario of its own; replaced when given in a derived one.
+  if (!derived || m.has("route")) s.route = parseRoute(m.value("route").asMap());
+  if (!derived || m.has("floor")) s.floor = parseFloor(m.map("floor"));
   if (m.has("people")) {
+    s.people.clear();
     const std::vector<ConfigValue> items = m.value("people").items();
     for (size_t i = 0; i < items.size(); ++i) s.people.push_back(parsePerson(items[i].asMap(), i));
   }
-  s.chairs = parseChairs(m.map("chairs"));
-  s.noise = parseNoise(m.map("noise"), s.config.rig);
-  s.odometry = parseOdometry(m.map("odometry"));
+  if (!derived || m.has("chairs")) s.chairs = parseChairs(m.map("chairs"));
+  if (!derived || m.has("world")) s.world = parseWorld(m.map("world"));
+  // Per-sensor noise belongs to the rig: a new rig gets its own noise section (or the defaults).
+  if (!derived || m.has("noise") || m.has("rig") || m.has("config")) s.noise = parseNoise(m.map("noise"), s.config.rig);
+  if (!derived || m.has("odometry")) s.odometry = parseOdometry(m.map("odometry"));
   m.finish();
   return s;
 }
+
+}  // namespace
+
+Scenario loadScenario(const std::string& path) { return loadScenarioAt(path, 0); }
 
 }  // namespace polyloc

@@ -20,7 +20,7 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kStep = 1e-4f;  // m past a glass surface before casting on
 
 // Draw numbers k of one beam: normal() uses uniforms 2k and 2k+1, so uniforms start at 8.
-enum Draw : uint64_t { kRangeNoise = 0, kAmplitudeNoise = 1, kDropout = 8, kMaxRange = 9,
+enum Draw : uint64_t { kRangeNoise = 0, kAmplitudeNoise = 1, kBeamBias = 2, kJitter = 3, kDropout = 8, kMaxRange = 9,
                        kReflect = 10, kReflectFactor = 11, kFlying = 12, kFlyingMix = 13 };
 
 // One beam still on its way after meeting glass.
@@ -52,6 +52,20 @@ SensorSim::SensorSim(size_t index, const Sensor& sensor, const SensorNoise& nois
   }
   if (const auto* cam = std::get_if<DepthCameraSpec>(&sensor.spec)) depth_factor_ = cam->depthFactors();
   optical_frame_ = sensor.name + "_optical";
+  if (options.noise_enabled && noise.beam_bias > 0) {
+    const CounterRng rng(options.seed);
+    beam_bias_.resize(beams_.size());
+    for (size_t b = 0; b < beams_.size(); ++b)
+      beam_bias_[b] = static_cast<float>(noise.beam_bias * rng.normal(sensorStream(index), b, kBeamBias));
+  }
+}
+
+Eigen::Vector3f SensorSim::direction(size_t b, uint64_t frame) const {
+  const Eigen::Vector3f d(beams_.dx[b], beams_.dy[b], beams_.dz[b]);
+  if (!opt_.noise_enabled || noise_.angle_jitter <= 0) return d;
+  const double a = noise_.angle_jitter * CounterRng(opt_.seed).normal(frameStream(index_, frame), b, kJitter);
+  const float c = static_cast<float>(std::cos(a)), s = static_cast<float>(std::sin(a));
+  return {c * d.x() - s * d.y(), s * d.x() + c * d.y(), d.z()};
 }
 
 void SensorSim::simulate(const RayCaster& caster, std::vector<FrameJob>& jobs) const {
@@ -69,7 +83,23 @@ void SensorSim::trace(const RayCaster& caster, std::vector<FrameJob>& jobs) cons
   for (size_t j = 0; j < nj; ++j) poses[j] = jobs[j].frame.map_T_sensor;
   std::vector<float> range(n), nx(n), ny(n), nz(n);
   std::vector<uint32_t> label(n);
-  caster.castScans(poses, beams_, {range.data(), nullptr, label.data(), nx.data(), ny.data(), nz.data()});
+  const HitBuffers hits{range.data(), nullptr, label.data(), nx.data(), ny.data(), nz.data()};
+  if (opt_.noise_enabled && noise_.angle_jitter > 0) {
+    // Jittered beams are no longer one scan: explicit rays, each its own direction.
+    std::vector<float> ox(n), oy(n), oz(n), dx(n), dy(n), dz(n), t0(n, beams_.range_min), t1(n, beams_.range_max);
+    tbb::parallel_for(size_t(0), nj, [&](size_t j) {
+      const Eigen::Matrix3f R = poses[j].rotation().toRotationMatrix().cast<float>();
+      const Eigen::Vector3f o = poses[j].translation().cast<float>();
+      for (size_t b = 0; b < nb; ++b) {
+        const size_t i = j * nb + b;
+        const Eigen::Vector3f d = R * direction(b, jobs[j].frame.index);
+        ox[i] = o.x(), oy[i] = o.y(), oz[i] = o.z(), dx[i] = d.x(), dy[i] = d.y(), dz[i] = d.z();
+      }
+    });
+    caster.castRays({ox.data(), oy.data(), oz.data(), dx.data(), dy.data(), dz.data(), t0.data(), t1.data(), n}, hits);
+  } else {
+    caster.castScans(poses, beams_, hits);
+  }
 
   const bool tof = !depth_factor_.empty();
   const bool glass_on = glass_ != GlassMode::Opaque && glass_label_ != kNoHit && opt_.max_bounces > 0;
@@ -87,7 +117,7 @@ void SensorSim::trace(const RayCaster& caster, std::vector<FrameJob>& jobs) cons
     const PeopleScene* people = jobs[j].people && !jobs[j].people->empty() ? jobs[j].people : nullptr;
     for (size_t b = 0; b < nb; ++b) {
       const size_t i = j * nb + b;
-      const Eigen::Vector3f d = R * Eigen::Vector3f(beams_.dx[b], beams_.dy[b], beams_.dz[b]);
+      const Eigen::Vector3f d = R * direction(b, f.index);
       float r = range[i];
       Eigen::Vector3f normal(nx[i], ny[i], nz[i]);
       uint32_t lab = label[i];
@@ -170,11 +200,6 @@ void SensorSim::applyNoise(FrameJob& job) const {
   const uint64_t stream = frameStream(index_, f.index);
   const bool tof = !depth_factor_.empty();
   const float rmax = beams_.range_max;
-  // Flying pixels need the clean depth of the 4-neighbours.
-  int w = 0, h = 0;
-  if (const auto* cam = std::get_if<DepthCameraSpec>(&sensor_.spec)) w = cam->width, h = cam->height;
-  auto depth = [&](int u, int v) { return f.exact[size_t(v) * w + u] * depth_factor_[size_t(v) * w + u]; };
-
   for (size_t b = 0; b < nb; ++b) {
     float r = f.exact[b];
     if (!std::isfinite(r)) {
@@ -206,25 +231,45 @@ void SensorSim::applyNoise(FrameJob& job) const {
     if (lab < specular_.size() && specular_[lab] && rng.uniform(stream, b, kReflect) < noise_.reflection_outlier) {
       r *= static_cast<float>(rng.uniform(noise_.reflection_min, noise_.reflection_max, stream, b, kReflectFactor));
       f.artefacts[b] |= kArtefactReflection;
-    } else if (tof && noise_.flying_pixel > 0) {
-      const int u = static_cast<int>(b % w), v = static_cast<int>(b / w);
-      const float d0 = depth(u, v);
-      float step = 0.f, other = d0;
-      for (auto [du, dv] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-        const int uu = u + du, vv = v + dv;
-        if (uu < 0 || vv < 0 || uu >= w || vv >= h) continue;
-        const float dn = depth(uu, vv);
-        if (std::isfinite(dn) && std::abs(dn - d0) > step) step = std::abs(dn - d0), other = dn;
-      }
+    } else if (noise_.flying_pixel > 0) {
+      float step = 0.f;
+      const float other = edgeNeighbour(f, b, &step);
       if (step > noise_.flying_threshold && rng.uniform(stream, b, kFlying) < noise_.flying_pixel) {
+        const float k = tof ? depth_factor_[b] : 1.f;  // ToF pixels mix depths, lasers ranges
+        const float d0 = r * k;
         const double mix = rng.uniform(0.1, 0.9, stream, b, kFlyingMix);
-        const double dm = std::min(d0, other) + mix * std::abs(other - d0);
-        r = static_cast<float>(dm / depth_factor_[b]);
+        r = static_cast<float>((std::min(d0, other) + mix * std::abs(other - d0)) / k);
         f.artefacts[b] |= kArtefactFlyingPixel;
       }
     }
-    f.measured[b] = static_cast<float>(r + noise_.bias + noise_.sigmaAt(r) * rng.normal(stream, b, kRangeNoise));
+    const float own_bias = beam_bias_.empty() ? 0.f : beam_bias_[b];
+    f.measured[b] = static_cast<float>(r + noise_.bias + own_bias + noise_.sigmaAt(r) * rng.normal(stream, b, kRangeNoise));
   }
+}
+
+float SensorSim::edgeNeighbour(const SimFrame& f, size_t b, float* step) const {
+  // Neighbours: the 4 pixels of a depth image (compared in depth), beams b-1 and b+1 of a scan.
+  int w = 0, h = 0;
+  if (const auto* cam = std::get_if<DepthCameraSpec>(&sensor_.spec)) w = cam->width, h = cam->height;
+  const auto value = [&](size_t i) { return w > 0 ? f.exact[i] * depth_factor_[i] : f.exact[i]; };
+  const float v0 = value(b);
+  float other = v0;
+  *step = 0.f;
+  const auto look = [&](size_t i) {
+    const float vn = value(i);
+    if (std::isfinite(vn) && std::abs(vn - v0) > *step) *step = std::abs(vn - v0), other = vn;
+  };
+  if (w > 0) {
+    const int u = static_cast<int>(b % w), v = static_cast<int>(b / w);
+    for (auto [du, dv] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      const int uu = u + du, vv = v + dv;
+      if (uu >= 0 && vv >= 0 && uu < w && vv < h) look(size_t(vv) * w + uu);
+    }
+  } else {
+    if (b > 0) look(b - 1);
+    if (b + 1 < f.exact.size()) look(b + 1);
+  }
+  return other;
 }
 
 }  // namespace polyloc::detail

@@ -16,6 +16,8 @@ namespace polyloc::detail {
 
 // Random stream of one sensor frame: draws of beam b are rng(seed).xxx(stream, b, k).
 inline uint64_t frameStream(size_t sensor, uint64_t frame) { return (uint64_t(sensor + 1) << 40) ^ frame; }
+// Draws fixed for the whole run (per-beam bias): a frame index no run reaches.
+inline uint64_t sensorStream(size_t sensor) { return frameStream(sensor, (uint64_t(1) << 40) - 1); }
 
 struct OutMessage {
   int64_t stamp = 0;
@@ -54,6 +56,10 @@ class SensorSim {
  private:
   void trace(const RayCaster& caster, std::vector<FrameJob>& jobs) const;
   void applyNoise(FrameJob& job) const;
+  // Sensor-frame direction of beam b in frame `frame`, turned by the angle jitter.
+  Eigen::Vector3f direction(size_t b, uint64_t frame) const;
+  // Range of a neighbour of beam b across the largest step (flying or mixed pixel), or NaN.
+  float edgeNeighbour(const SimFrame& f, size_t b, float* step) const;
   void buildMessages(FrameJob& job) const;
 
   size_t index_;
@@ -67,6 +73,7 @@ class SensorSim {
   std::vector<uint8_t> specular_;        // per label id
   std::vector<float> reflectivity_;      // per label id
   std::vector<float> depth_factor_;      // depth cameras: range -> depth
+  std::vector<float> beam_bias_;         // per beam, fixed over the run (empty: none)
   std::string optical_frame_;
 };
 

@@ -32,16 +32,22 @@ Simulator::Simulator(Scenario scenario, Mesh map) : scenario_(std::move(scenario
   if (!(s.odometry.rate_hz > 0)) throw std::invalid_argument("simulator: odometry rate must be positive");
   for (const Sensor& sensor : rig.sensors)
     if (!(sensor.rateHz() > 0)) throw std::invalid_argument("simulator: sensor " + sensor.name + " has no rate");
-  map_ = moveChairs(map, s.chairs, s.seed, &chair_moves_);
-  person_label_ = map_.labelId("person");
-  auto caster = std::make_unique<EmbreeCaster>(map_);
+  trajectory_ = std::make_unique<Trajectory>(s.route, s.config.robot.kinematics);
+  const Mesh base = s.world.mesh.empty() ? std::move(map) : loadMesh(s.world.mesh, s.config.map.load);
+  world_ = moveChairs(base, s.chairs, s.seed, &chair_moves_);
+  if (!s.world.empty()) {
+    std::vector<Eigen::Vector2d> route;
+    for (const PlanarState& p : trajectory_->sample(0.1)) route.emplace_back(p.x, p.y);
+    world_ = buildWorld(world_, s.world, s.seed, route, &world_changes_);
+  }
+  person_label_ = world_.labelId("person");
+  auto caster = std::make_unique<EmbreeCaster>(world_);
   // Surfaces are surfaces from both sides: beams go on through glass panes (entering and
   // leaving them) and floor probes through furniture; no beam starts inside a solid otherwise.
   caster->options.backface_is_solid = false;
   caster_ = std::move(caster);
-  trajectory_ = std::make_unique<Trajectory>(s.route, s.config.robot.kinematics);
   people_ = std::make_unique<People>(s.people);
-  floor_ = std::make_unique<FloorModel>(s.floor, *caster_, map_, s.config.robot.contactPoints(), s.seed);
+  floor_ = std::make_unique<FloorModel>(s.floor, *caster_, world_, s.config.robot.contactPoints(), s.seed);
   duration_ = s.duration > 0 ? s.duration : trajectory_->duration() + 1.0;
 
   std::vector<SensorNoise> noise = s.noise.sensors;
@@ -53,7 +59,7 @@ Simulator::Simulator(Scenario scenario, Mesh map) : scenario_(std::move(scenario
   opt.max_bounces = s.noise.max_bounces;
   opt.seed = s.seed;
   for (size_t i = 0; i < rig.size(); ++i) {
-    sensors_.push_back(std::make_unique<detail::SensorSim>(i, rig.sensors[i], noise[i], opt, map_, person_label_));
+    sensors_.push_back(std::make_unique<detail::SensorSim>(i, rig.sensors[i], noise[i], opt, world_, person_label_));
     sensor_beams_.push_back(rig.sensors[i].beams());
     const Sensor& r = rig.sensors[i];
     if (std::holds_alternative<PlanarScannerSpec>(r.spec) && std::abs(r.mount.roll()) < 0.17 && std::abs(r.mount.pitch()) < 0.17)
@@ -203,6 +209,7 @@ SimSummary Simulator::run(RecordingWriter& out, const SimHooks& hooks) {
   summary.sim_duration_s = duration_;
   summary.floor_misses = floor_->misses();
   summary.chairs_moved = chair_moves_.size();
+  summary.world = world_changes_;
   return summary;
 }
 

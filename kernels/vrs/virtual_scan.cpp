@@ -14,8 +14,6 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-bool finitePose(const Pose& p) { return !domain::checkPose(p); }
-
 // Planar scanners tilted by less than this are "horizontal": direct by default.
 constexpr double kLevel = 0.087;  // 5 deg
 
@@ -95,7 +93,7 @@ void VirtualRangeScanner::store(Frame& f, int64_t stamp, const Pose& map_T_base,
 }
 
 bool VirtualRangeScanner::addFrame(size_t sensor, int64_t stamp, const Pose& map_T_base, std::span<const float> ranges) {
-  if (sensor >= rig_.size() || ranges.size() != beams_[sensor].size() || !finitePose(map_T_base))
+  if (sensor >= rig_.size() || ranges.size() != beams_[sensor].size() || !domain::validPose(map_T_base))
     return ++counters_.frames_rejected, false;
   if (frames_[sensor].mode == VrsMode::Off) return false;
   const BeamSet& b = beams_[sensor];
@@ -117,7 +115,7 @@ bool VirtualRangeScanner::addFrame(size_t sensor, int64_t stamp, const Pose& map
 }
 
 bool VirtualRangeScanner::addPoints(size_t sensor, int64_t stamp, const Pose& map_T_base, std::span<const Eigen::Vector3f> pts) {
-  if (sensor >= rig_.size() || !finitePose(map_T_base)) return ++counters_.frames_rejected, false;
+  if (sensor >= rig_.size() || !domain::validPose(map_T_base)) return ++counters_.frames_rejected, false;
   if (frames_[sensor].mode == VrsMode::Off) return false;
   std::vector<Eigen::Vector3f> ok;
   ok.reserve(pts.size());
@@ -128,7 +126,7 @@ bool VirtualRangeScanner::addPoints(size_t sensor, int64_t stamp, const Pose& ma
 }
 
 bool VirtualRangeScanner::addCone(size_t cone, int64_t stamp, const Pose& map_T_base, float range) {
-  if (cone >= config_.cones.size() || !finitePose(map_T_base)) return ++counters_.frames_rejected, false;
+  if (cone >= config_.cones.size() || !domain::validPose(map_T_base)) return ++counters_.frames_rejected, false;
   const VrsCone& c = config_.cones[cone];
   std::vector<Eigen::Vector3f> pts;
   if (std::isfinite(range) && range >= c.range_min && range < c.range_max) {
@@ -181,7 +179,7 @@ VirtualScan VirtualRangeScanner::update(int64_t stamp, const Pose& map_T_base) {
   out.ranges.assign(segments_, kInf);
   out.source.assign(segments_, kVrsNone);
   out.ranges_max.assign(segments_, kInf);
-  if (!finitePose(map_T_base)) return ++counters_.frames_rejected, out;
+  if (!domain::validPose(map_T_base)) return ++counters_.frames_rejected, out;
   ++counters_.updates;
 
   // Motion clock of the memory: runs only while the robot moves or turns.

@@ -1,5 +1,6 @@
 // polyloc bench raycast: rays/s of the Embree batch caster on a map, against a plain loop of one
 // rtcIntersect1 per ray over the same rays in the same run, and against one thread.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/bench_timing.hpp"
 #include "cli/commands.hpp"
@@ -110,14 +111,14 @@ void registerBench(CLI::App& app) {
   CLI::App& rc = *bench.add_subcommand(
       "raycast", "Rays/s of the Embree caster: N random poses in the map's x/y box at height H, "
                  "B beams over 360 deg, misses counted as the range limit in the mean");
-  rc.add_option("--map", args->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required()->check(CLI::ExistingFile);
+  addMapOption(rc, args->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required();
   rc.add_option("--poses", args->poses, "Number of poses N")->capture_default_str()->check(positiveFinite());
   rc.add_option("--beams", args->beams, "Beams per pose B")->capture_default_str()->check(positiveFinite());
-  rc.add_option("--threads", args->threads, "Worker threads T (0 = all cores)")->capture_default_str()->check(nonNegativeFinite());
-  rc.add_option("--height", args->height, "Sensor height H above z = 0 (m)")->capture_default_str();
+  addThreadsOption(rc, args->threads, "Worker threads T (0 = all cores)");
+  addHeightOption(rc, args->height, "Sensor height H above z = 0 (m)");
   rc.add_option("--range-max", args->range_max, "Range limit (m)")->capture_default_str()->check(positiveFinite());
   rc.add_option("--repeat", args->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
-  rc.add_option("--seed", args->seed, "Seed of the random poses")->capture_default_str();
+  addSeedOption(rc, args->seed, "Seed of the random poses")->capture_default_str();
   rc.add_flag("--json", args->json, "Print one JSON object on stdout");
   rc.callback([args] { runBenchRaycast(*args); });
   registerBenchMcl(bench);

@@ -3,6 +3,7 @@
 // thesis's Table 6.1 measurement (100,000 random rays): the BSP and Embree rows, and the
 // Bresenham rows (grid2d sliced at the ray height, at the thesis's 5, 4 and 1 cm) on the same
 // planar rays and points.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/bench_ranges.hpp"
 #include "cli/bench_timing.hpp"
@@ -43,9 +44,7 @@ struct BenchBspArgs {
 
 // Whole solids carry one label, so keeping labels keeps the map closed.
 Mesh keepLabels(const Mesh& in, const std::string& list) {
-  std::vector<std::string> keep;
-  std::stringstream ss(list);
-  for (std::string s; std::getline(ss, s, ',');) keep.push_back(s);
+  const std::vector<std::string> keep = splitList(list);
   Mesh out;
   out.source = in.source + " [" + list + "]";
   std::vector<uint32_t> remap(in.numVertices(), UINT32_MAX);  // shared vertices stay shared
@@ -142,7 +141,7 @@ nlohmann::json gridRows(const Mesh& mesh, const EmbreeCaster& embree, const Rays
     std::unique_ptr<RayCaster> grid;
     nlohmann::json g;
     g["build_s"] = seconds([&] { grid = makeCaster("grid2d", mesh, o); });
-    g["memory_mb"] = double(casterMemoryBytes(*grid)) / 1e6;
+    g["memory_mb"] = double(grid->memoryBytes()) / 1e6;
     g["rays_per_s_planar"] = bestRate(a.repeat, double(r.size()), [&] { grid->castRays(planar.batch(), {r.data()}); });
     compareRanges(r, ref, g, "planar");
     std::vector<uint8_t> f(pts.size());
@@ -237,19 +236,19 @@ void registerBenchBsp(CLI::App& bench) {
   CLI::App& c = *bench.add_subcommand(
       "bsp", "Solid-leaf BSP vs Embree on one map: build, memory, rays/s (planar at height H and 3D, "
              "from random free points), point-in-solid queries/s");
-  c.add_option("--map", a->map, "Map file (closed, outward-facing solids)")->required()->check(CLI::ExistingFile);
+  addMapOption(c, a->map, "Map file (closed, outward-facing solids)")->required();
   c.add_option("--labels", a->labels, "Keep only the solids with these labels (comma-separated)");
   c.add_option("--rays", a->rays, "Random rays of each kind")->capture_default_str()->check(positiveFinite());
   c.add_option("--points", a->points, "Random points for the point-in-solid test")->capture_default_str()->check(positiveFinite());
-  c.add_option("--threads", a->threads, "Worker threads (0 = all cores; 1 compares with the thesis)")->capture_default_str()->check(nonNegativeFinite());
-  c.add_option("--height", a->height, "Height of the ray origins (m)")->capture_default_str();
+  addThreadsOption(c, a->threads, "Worker threads (0 = all cores; 1 compares with the thesis)");
+  addHeightOption(c, a->height, "Height of the ray origins (m)");
   c.add_option("--clearance", a->clearance, "Robot radius of the second point test (m)")->capture_default_str();
   c.add_option("--k", a->k, "BSP score weight k of k * splits + (1 - k) * imbalance")->capture_default_str()->check(finiteRange(0.f, 1.f));
   c.add_option("--max-candidates", a->max_candidates, "BSP planes scored per node (0 = all)")->capture_default_str();
   c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
   c.add_option("--grid", a->grid, "grid2d resolutions (m) of the Bresenham rows (0: none)")
       ->capture_default_str()->delimiter(',');
-  c.add_option("--seed", a->seed, "Seed of the random rays and points")->capture_default_str();
+  addSeedOption(c, a->seed, "Seed of the random rays and points")->capture_default_str();
   c.add_flag("--json", a->json, "Print one JSON object on stdout");
   c.callback([a] { runBenchBsp(*a); });
 }

@@ -1,6 +1,7 @@
 // polyloc bench maps: the map representations side by side on one map. Per backend (factory.hpp):
 // build time, memory, rays/s for planar scans and for 3D rays, point-in-solid queries/s, range
 // error against Embree's exact intersection, and optionally MCL on a simulated scenario.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/bench_maps_localize.hpp"
@@ -38,13 +39,6 @@ struct BenchMapsArgs {
   uint64_t seed = 1;
   bool json = false, level_scanners = false;
 };
-
-double residentMb() {
-  std::ifstream f("/proc/self/statm");
-  size_t total = 0, resident = 0;
-  f >> total >> resident;
-  return double(resident) * double(sysconf(_SC_PAGESIZE)) / 1e6;
-}
 
 struct Workload {
   std::vector<Pose> poses;  // planar scans
@@ -91,15 +85,11 @@ nlohmann::json benchOne(const std::string& name, const Mesh& mesh, const Workloa
                         const BenchMapsArgs& a, Results& res) {
   CasterOptions co;
   co.threads = a.threads, co.resolution = a.resolution, co.height = a.height;
-  const double rss0 = residentMb();
   std::unique_ptr<RayCaster> c;
   const double build_s = seconds([&] { c = makeCaster(name, mesh, co); });
-  const double rss_mb = residentMb() - rss0;
-  const size_t own = casterMemoryBytes(*c);
   nlohmann::json j;
   j["build_s"] = build_s;
-  j["memory_mb"] = own ? double(own) / 1e6 : std::max(0.0, rss_mb);
-  j["memory_source"] = own ? "backend" : "resident set growth during build";
+  j["memory_mb"] = double(c->memoryBytes()) / 1e6;
   j["threads"] = c->threads();
   res.planar.resize(w.poses.size() * w.beams.size());
   res.rays3d.resize(w.ox.size());
@@ -150,10 +140,7 @@ std::string markdownTable(const nlohmann::json& j) {
 void runBenchMaps(const BenchMapsArgs& a) {
   checkOutputs({{"--map", a.map}}, {{"--markdown", a.markdown}});
   const Mesh mesh = loadMesh(a.map);
-  std::vector<std::string> names;
-  if (a.backends.empty()) names = casterNames();
-  std::stringstream ss(a.backends);
-  for (std::string n; std::getline(ss, n, ',');) names.push_back(n);
+  const std::vector<std::string> names = a.backends.empty() ? casterNames() : splitList(a.backends);
   for (const std::string& n : names)  // fail before minutes of work, naming the bad one
     if (std::find(casterNames().begin(), casterNames().end(), n) == casterNames().end())
       makeCaster(n, mesh);  // throws: unknown name, lists the known ones
@@ -214,15 +201,15 @@ void registerBenchMaps(CLI::App& bench) {
   CLI::App& c = *bench.add_subcommand(
       "maps", "Map representations side by side (embree, grid2d, distance3d, octomap, ...): build "
               "time, memory, rays/s, point queries/s, range error against Embree, optional MCL run");
-  c.add_option("--map", a->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required()->check(CLI::ExistingFile);
+  addMapOption(c, a->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required();
   c.add_option("--backends", a->backends, "Comma-separated backends (default: all built)");
   c.add_option("--rays", a->rays, "Rays per workload (planar: rays / beams poses x beams)")->capture_default_str()->check(positiveFinite());
   c.add_option("--beams", a->beams, "Beams of the planar fan")->capture_default_str()->check(positiveFinite());
   c.add_option("--resolution", a->resolution, "Cell/voxel size of grid2d, distance3d, octomap (m)")->capture_default_str()->check(positiveFinite());
-  c.add_option("--height", a->height, "Sensor height of the planar rays and the grid2d slice (m)")->capture_default_str();
-  c.add_option("--threads", a->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(nonNegativeFinite());
+  addHeightOption(c, a->height, "Sensor height of the planar rays and the grid2d slice (m)");
+  addThreadsOption(c, a->threads, "Worker threads (0 = all cores)");
   c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
-  c.add_option("--seed", a->seed, "Seed of the random rays and points")->capture_default_str();
+  addSeedOption(c, a->seed, "Seed of the random rays and points")->capture_default_str();
   c.add_option("--localize", a->localize, "Scenario YAML: also run MCL with each backend on it")->check(CLI::ExistingFile);
   c.add_flag("--level-scanners", a->level_scanners,
              "MCL of every backend weighs the rig's level planar scanners only (as grid2d always does)");

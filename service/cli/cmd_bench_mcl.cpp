@@ -1,11 +1,12 @@
 // polyloc bench mcl: measurement updates per second of the localiser on a map (N particles x B
 // beams of one planar scanner, all particles weighed, resampling included), and the rays/s of
 // the same rays cast directly through castScans in the same run, for the MCL / raycast ratio.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
 
 #include <polyloc/map/load.hpp>
-#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/free_floor.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/sensor_model.hpp>
 #include <polyloc/raycast/embree.hpp>
@@ -138,14 +139,14 @@ void runBenchMcl(const BenchMclArgs& a) {
 void registerBenchMcl(CLI::App& bench) {
   auto args = std::make_shared<BenchMclArgs>();
   CLI::App& c = *bench.add_subcommand("mcl", "Measurement updates/s of the MCL localiser");
-  c.add_option("--map", args->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required()->check(CLI::ExistingFile);
+  addMapOption(c, args->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required();
   c.add_option("--particles", args->particles, "Particles N")->capture_default_str()->check(positiveFinite());
   c.add_option("--beams", args->beams, "Beams B of the planar scanner")->capture_default_str()->check(finiteRange(2, 100000));
   c.add_option("--dof", args->dof, "3 or 6")->capture_default_str()->check(CLI::IsMember({3, 6}));
-  c.add_option("--threads", args->threads, "Worker threads T (0 = all cores)")->capture_default_str()->check(nonNegativeFinite());
+  addThreadsOption(c, args->threads, "Worker threads T (0 = all cores)");
   c.add_option("--updates", args->updates, "Timed updates")->capture_default_str()->check(positiveFinite());
-  c.add_option("--height", args->height, "Scanner height above base (m)")->capture_default_str();
-  c.add_option("--seed", args->seed, "Seed")->capture_default_str();
+  addHeightOption(c, args->height, "Scanner height above base (m)");
+  addSeedOption(c, args->seed, "Seed")->capture_default_str();
   c.add_option("--model", args->model, "Measurement model (mcl.model)")->capture_default_str()->check(
       CLI::IsMember(sensorModelNames()));
   c.add_flag("--json", args->json, "Print one JSON object on stdout");

@@ -1,6 +1,7 @@
 // polyloc demo: what `make run` shows for now. Loads (or generates) the bundled lab map, prints
 // its validation summary, simulates a SICK S300 scan from a few free poses, prints the ranges
 // and draws a top view of the map slice with the rays as PNG.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
@@ -129,8 +130,8 @@ void registerDemo(CLI::App& app) {
   demo.add_option("--map", args->map, "Map file (generated in memory if missing)")->capture_default_str();
   demo.add_option("--out", args->out, "PNG to write")->capture_default_str();
   demo.add_option("--poses", args->poses, "Number of robot poses")->capture_default_str()->check(finiteRange(1, 16));
-  demo.add_option("--height", args->height, "Scanner height (m)")->capture_default_str();
-  demo.add_option("--seed", args->seed, "Seed for picking free poses")->capture_default_str();
+  addHeightOption(demo, args->height, "Scanner height (m)");
+  addSeedOption(demo, args->seed, "Seed for picking free poses")->capture_default_str();
   demo.callback([args] { runDemo(*args); });
 }
 

@@ -3,6 +3,7 @@
 // prior within a number of rounds, and of kidnappings recovered. Progress on stderr when it is a
 // terminal; a summary (or --json) on stdout; --plot draws the starts on the map, green when the
 // trial succeeded.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
@@ -116,10 +117,10 @@ void addOptions(CLI::App& c, EvalArgs& a, bool kidnap) {
   c.add_option("--hold", a.trials.hold_rounds, "Rounds the error must then stay within tolerance")->capture_default_str();
   c.add_option("--pos-tol", a.trials.pos_tol, "Position tolerance, m")->capture_default_str();
   c.add_option("--yaw-tol", a.yaw_tol_deg, "Yaw tolerance, degrees")->capture_default_str();
-  c.add_option("--seed", a.trials.seed, "Seed of the start poses and routes")->capture_default_str();
+  addSeedOption(c, a.trials.seed, "Seed of the start poses and routes")->capture_default_str();
   c.add_option("--route-length", a.trials.route_length, "Upper bound of each drive, m")->capture_default_str();
   if (kidnap) c.add_option("--kidnap-after", a.trials.kidnap_after, "Rounds tracked before the kidnapping")->capture_default_str();
-  else c.add_option("--particles", a.particles, "Particles of the uniform prior (default: mcl.global_particles)")->check(finiteRange(1, 1e8));
+  else c.add_option("--global-particles", a.particles, "Particles of the uniform prior (default: mcl.global_particles)")->check(finiteRange(1, 1e8));
   c.add_option("--plot", a.plot, "PNG of the map with the starts (green: succeeded)");
   c.add_flag("--json", a.json, "Summary as one JSON object on stdout");
 }

@@ -3,6 +3,7 @@
 // odometry and with the log's own, the floor the map allows, global localisation from random
 // test frames. A summary (or --json) on stdout, progress on stderr when it is a terminal, --plot
 // draws the map, the paths and the global starts.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
@@ -175,11 +176,8 @@ void save(const Args& a, const reloc::CarmenEvalResult& r) {
 void run(Args a) {
   checkOutputs({{"--log", a.eval.log}, {"--config", a.eval.config}}, {{"--plot", a.plot}}, {{"--save", a.save}});
   a.eval.variants.clear();
-  for (size_t i = 0; i <= a.variants.size();) {
-    const size_t j = std::min(a.variants.find(',', i), a.variants.size());
-    if (j > i && a.variants.substr(i, j - i) != "none") a.eval.variants.push_back(a.variants.substr(i, j - i));
-    i = j + 1;
-  }
+  for (const std::string& v : splitList(a.variants))
+    if (v != "none") a.eval.variants.push_back(v);
   a.eval.plot = !a.plot.empty();
   const bool tty = isatty(fileno(stderr));
   auto last = std::chrono::steady_clock::now() - std::chrono::seconds(1);
@@ -282,7 +280,7 @@ void registerEvalCarmen(CLI::App& eval) {
   c.add_option("--variants", a->variants, "Test runs: drift (corrected path + seeded drift), own (the log's ODOM), or none (global trials only)")->capture_default_str();
   c.add_option("--every", a->eval.every, "Keep every N/2-th of the odd scans as test scans (2: all)")->capture_default_str()->check(finiteRange(2, 100000));
   c.add_option("--drift", a->eval.drift.translation, "Drift odometry: translation error std per metre (fraction)")->capture_default_str()->check(finiteRange(0.0, 10.0));
-  c.add_option("--seed", a->eval.seed, "Seed of the drift and the global starts")->capture_default_str();
+  addSeedOption(c, a->eval.seed, "Seed of the drift and the global starts")->capture_default_str();
   c.add_option("--resolution", a->eval.mapper.resolution, "Map grid cell size, m")->capture_default_str()->check(finiteRange(0.005, 1.0));
   c.add_option("--global-trials", a->eval.global_trials, "Global localisation trials (0: none)")->capture_default_str()->check(finiteRange(0, 10000));
   c.add_option("--global-updates", a->eval.global_updates, "Updates after which a global trial must be within tolerance")->capture_default_str()->check(finiteRange(1, 100000));

@@ -2,6 +2,7 @@
 // (kernels/eval/tracking_quality.hpp): motion detection and Kalman tracking on its level planar
 // scanners, scored with CLEAR-MOT against the people walking in it. A summary (or --json) on
 // stdout, progress on stderr when it is a terminal; --plot draws tracks against the truth.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
@@ -115,7 +116,7 @@ void registerEvalTracking(CLI::App& eval) {
   c.add_option("--tracking", a->tracking, "YAML file whose tracking: section replaces the scenario config's")
       ->check(CLI::ExistingFile);
   c.add_option("--duration", a->eval.duration, "Seconds simulated (default: the scenario's)")->check(finiteRange(0.0, 1e6));
-  c.add_option("--seed", a->seed, "Overrides the scenario's seed");
+  addSeedOption(c, a->seed, "Overrides the scenario's seed");
   c.add_option("--match-distance", a->eval.match_distance, "CLEAR-MOT match threshold, m")->capture_default_str()->check(finiteRange(1e-3, 100.0));
   c.add_option("--min-beams", a->eval.min_beams, "Beams on a person for them to be visible")->capture_default_str()->check(finiteRange(0, 1e6));
   c.add_option("--range", a->eval.range, "m: people only count within this range of a scanner")->capture_default_str()->check(finiteRange(0.0, 1e4));

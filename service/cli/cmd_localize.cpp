@@ -2,6 +2,7 @@
 // and writes the estimate after every measurement update as TUM; with ground truth (the
 // recording's /ground_truth or --ground-truth) it reports the accuracy (kernels/eval).
 // Progress on stderr when it is a terminal; a summary (or --json) on stdout.
+#include "cli/common_options.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
@@ -39,13 +40,6 @@ struct LocalizeArgs {
   size_t plot_particles = 500;
 };
 
-std::vector<double> numbers(const std::string& s, const char* option) {
-  std::vector<double> v;
-  std::stringstream ss(s);
-  std::string tok;
-  while (std::getline(ss, tok, ',')) v.push_back(parseNumber(tok, option));
-  return v;
-}
 
 void progressBar(double f, uint64_t updates) {
   fmt::print(stderr, "\rlocalize {} {:3.0f}%, {} updates", barText(f), 100 * f, updates);
@@ -70,17 +64,15 @@ void runLocalize(const LocalizeArgs& a) {
   jo.sensors = reloc::sensorMask(cfg.rig, a.sensors);
   // How the filter starts: --init, --global, else the first ground-truth pose, else global.
   if (!a.init.empty()) {
-    const auto v = numbers(a.init, "--init");
-    if (v.size() != 3 && v.size() != 4) throw std::runtime_error("--init: expected x,y,z,yaw (or x,y,yaw), yaw in degrees");
-    const double z = v.size() == 4 ? v[2] : 0.0;
-    if (auto why = domain::checkPlanar(v[0], v[1], deg2rad(v.back()), mesh.bounds()))
+    const Pose p = parseStartPose(a.init, "--init");
+    if (auto why = domain::checkPlanar(p.x(), p.y(), p.yaw(), mesh.bounds()))
       throw std::runtime_error(fmt::format("--init: {} (the map covers {})", *why, domain::describeArea(mesh.bounds())));
     jo.start = reloc::StartMode::Pose;
-    jo.start_pose = Pose::fromXYZRPY(v[0], v[1], z, 0, 0, deg2rad(v.back()));
+    jo.start_pose = p;
   } else if (a.global) {
     jo.start = reloc::StartMode::Global;
   }
-  const auto sigma = numbers(a.init_sigma, "--init-sigma");
+  const auto sigma = parseNumbers(a.init_sigma, "--init-sigma");
   if (sigma.size() != 2 || sigma[0] < 0 || sigma[1] < 0) throw std::runtime_error("--init-sigma: expected xy_m,yaw_deg");
   jo.init_sigma_xy_m = sigma[0];
   jo.init_sigma_yaw_deg = sigma[1];
@@ -163,8 +155,8 @@ void registerLocalize(CLI::App& app) {
   CLI::App& cmd = *app.add_subcommand("localize", "Localise a recorded run with Monte-Carlo localisation on the polygon map");
   cmd.add_option("--input", args->input, "Recording: MCAP, ROS 2 bag (directory, metadata.yaml or .db3), CARMEN log")->required();
   cmd.add_option("--config", args->config, "polyloc config (maps/config/*.yaml): map, rig, mcl")->required();
-  cmd.add_option("--map", args->map, "Polygon map (default: the config's)");
-  cmd.add_option("--init", args->init, "Start pose x,y,z,yaw (m, deg; or x,y,yaw)");
+  addMapOption(cmd, args->map, "Polygon map (default: the config's)");
+  cmd.add_option("--init", args->init, "Start pose x,y,yaw or x,y,z,yaw (m, deg)");
   cmd.add_flag("--global", args->global, "Global localisation (default without --init: the first ground-truth pose, if any)");
   cmd.add_option("--init-sigma", args->init_sigma, "Start spread xy_m,yaw_deg for --init and ground-truth starts")->capture_default_str();
   cmd.add_option("--ground-truth", args->ground_truth, "Ground truth as TUM (default: the recording's /ground_truth)");

@@ -133,7 +133,7 @@ void registerMapExtrude(CLI::App& map) {
   c->add_option("--max-range", a->mapper.max_range, "--carmen: beams at or beyond this (m) only clear free space")->capture_default_str()->check(positiveFinite());
   c->add_option("--save-grid", a->save_grid, "--carmen: also save the built grid as map_server YAML + PGM");
   c->add_option("--out", a->out, "Output map (.obj, .ply, .stl, .gltf, .glb, .dae)")->required();
-  c->add_option("--height", a->options.height, "Wall height (m)")->capture_default_str()->check(positiveFinite());
+  c->add_option("--wall-height", a->options.height, "Wall height (m)")->capture_default_str()->check(positiveFinite());
   c->add_option("--floor-thickness", a->options.floor_thickness, "Floor slab under the grid (m; 0 = none)")->capture_default_str()->check(nonNegativeFinite());
   c->add_flag("--unknown-occupied", a->options.unknown_is_occupied, "Unknown cells become walls too");
   // Merging is the default; the flag spells it out, --no-merge makes one box per cell.

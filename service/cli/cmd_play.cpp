@@ -3,6 +3,7 @@
 // restamped to the wall clock, and watches what comes back: pose (error against the ground
 // truth the source carries), latency from scan to pose, rates, and what polylocd dropped or
 // rejected. Status on stderr; a summary (--json) on stdout; --plot draws the trajectories.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
@@ -138,7 +139,7 @@ void registerPlay(CLI::App& app) {
   c->add_option("--duration", a->duration, "s: stop after this much of the source (0: all)")->capture_default_str()->check(finiteRange(0.0, 1e7));
   c->add_option("--wait", a->wait, "s to wait for polylocd's segment to appear")->capture_default_str()->check(finiteRange(0.0, 3600.0));
   c->add_option("--plot", a->plot, "PNG of map, ground truth and the poses polylocd published");
-  c->add_option("--map", a->map, "Mesh for --plot when playing a recording");
+  addMapOption(*c, a->map, "Mesh for --plot when playing a recording");
   c->add_flag("--loop", a->loop, "Start the source again at its end, until --duration (soak tests)");
   c->add_flag("--quiet", a->quiet, "No status line");
   c->add_flag("--json", a->json, "Summary as one JSON object on stdout");

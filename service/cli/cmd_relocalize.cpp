@@ -2,6 +2,7 @@
 // side by side with TBB (--jobs) and across MPI ranks (mpirun -np K polyloc relocalize ...);
 // rank 0 merges into DIR/<name>/{trajectory.tum,frames.csv,plot.png,summary.json} and
 // DIR/summary.json (docs/relocalize.md). Exit 1 when any input did not run whole.
+#include "cli/common_options.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "cli/parse_number.hpp"
@@ -131,7 +132,7 @@ void registerRelocalize(CLI::App& app) {
   cmd.add_option("--input", b.inputs, "Recordings: MCAP, ROS 2 bag, CARMEN log (one or more)")->required();
   cmd.add_option("--config", args->config, "polyloc config (maps/config/*.yaml): map, rig, mcl")->required();
   cmd.add_option("--out", b.out_dir, "Output folder: <name>/ per input and summary.json")->required();
-  cmd.add_option("--map", args->map, "Polygon map (default: the config's)");
+  addMapOption(cmd, args->map, "Polygon map (default: the config's)");
   cmd.add_flag("--global", b.global, "Global localisation everywhere (default: the first ground-truth pose, if any)");
   cmd.add_option("--jobs", b.jobs, "Recordings (or segments) side by side in this process")->capture_default_str()->check(finiteRange(1, 4096));
   cmd.add_option("--threads", b.threads, "TBB threads of this process (default: --jobs)")->check(finiteRange(0, 4096));

@@ -1,6 +1,7 @@
 // polyloc simulate: runs a scenario (kernels/sim) and records it as MCAP (*.mcap) or as a ROS 2
 // bag directory (anything else); optionally a TUM ground-truth file and a PNG of the run.
 // Progress on stderr when it is a terminal; a summary (or --json) on stdout.
+#include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
@@ -151,7 +152,7 @@ void runSimulate(const SimulateArgs& a) {
   if (!a.plot.empty()) {
     plot.title = fmt::format("{} (seed {}), {:.0f} s", a.scenario, scenario.seed, sim.duration());
     if (auto dir = std::filesystem::path(a.plot).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
-    viz::drawSimulation(sim.map(), plot, a.plot);
+    viz::drawSimulation(sim.world(), plot, a.plot);
   }
 
   const double rtf = wall > 0 ? summary.sim_duration_s / wall : 0.0;
@@ -168,6 +169,9 @@ void runSimulate(const SimulateArgs& a) {
     j["messages"] = summary.messages;
     j["floor_misses"] = summary.floor_misses;
     j["chairs_moved"] = summary.chairs_moved;
+    const WorldChanges& w = summary.world;
+    j["world"] = {{"removed", w.removed}, {"added", w.added}, {"shifted", w.shifted}, {"clutter", w.clutter},
+                  {"triangles", w.triangles_after}};
     nlohmann::json topics = nlohmann::json::object();
     for (const auto& [topic, count] : summary.topics) topics[topic] = count;
     j["topics"] = topics;
@@ -185,6 +189,9 @@ void runSimulate(const SimulateArgs& a) {
     fmt::print("  {:<36} {:>7}  {:6.1f} Hz\n", topic, count,
                summary.sim_duration_s > 0 && count > 1 ? (count - 1) / summary.sim_duration_s : 0.0);
   if (summary.chairs_moved) fmt::print("chairs     {} moved\n", summary.chairs_moved);
+  if (const WorldChanges& w = summary.world; w.triangles_after > 0)
+    fmt::print("world      differs from the map: {} removed, {} added, {} solids shifted, {} clutter boxes, {} triangles\n",
+               w.removed, w.added, w.shifted, w.clutter, w.triangles_after);
   if (summary.floor_misses) fmt::print("warning    {} floor probes found no floor (robot kept at z = 0 there)\n", summary.floor_misses);
   if (!a.ground_truth.empty()) fmt::print("truth      {}\n", a.ground_truth);
   if (!a.plot.empty()) fmt::print("plot       {}\n", a.plot);
@@ -198,7 +205,7 @@ void registerSimulate(CLI::App& app) {
       "simulate", "Simulate a scenario: sensors, odometry and ground truth as MCAP or a ROS 2 bag");
   cmd.add_option("--scenario", args->scenario, "Scenario YAML (maps/scenarios/*.yaml)")->required()->check(CLI::ExistingFile);
   cmd.add_option("--out", args->out, "Recording to write: *.mcap, otherwise a ROS 2 bag directory");
-  cmd.add_option("--seed", args->seed, "Random seed (default: the scenario's)")->check(nonNegativeFinite());
+  addSeedOption(cmd, args->seed, "Random seed (default: the scenario's)");
   cmd.add_option("--duration", args->duration, "Simulated seconds (default: the scenario's)")->check(positiveFinite());
   cmd.add_option("--ground-truth", args->ground_truth, "Also write the ground truth as a TUM file");
   cmd.add_option("--plot", args->plot, "Draw the run as PNG: map, paths, one frame of every sensor");

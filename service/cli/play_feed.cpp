@@ -162,8 +162,7 @@ std::string PlayFeed::statusLine(double t_s, double span_s) const {
                                [](const StampedPose& p, int64_t t) { return p.stamp_ns < t; });
     if (it != r_.truth.end()) {
       const double dxy = (it->pose.translation().head<2>() - e.pose.translation().head<2>()).norm();
-      double dyaw = std::remainder(e.pose.yaw() - it->pose.yaw(), 2 * M_PI);
-      s += fmt::format("  err {:.3f} m {:.1f} deg", dxy, rad2deg(std::abs(dyaw)));
+      s += fmt::format("  err {:.3f} m {:.1f} deg", dxy, rad2deg(std::abs(angleDiff(e.pose.yaw(), it->pose.yaw()))));
     }
     s += fmt::format("  {:.1f} poses/s  latency {:.1f} ms", t_s > 0 ? double(r_.estimates.size()) / t_s : 0.0, r_.latency_ms.back());
   } else {

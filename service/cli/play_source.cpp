@@ -103,7 +103,7 @@ class ScenarioSource final : public PlaySource {
   bool next(RecordedMessage& out) override { return queue_.pop(out); }
   double durationS() const override { return sim_->duration(); }
   std::string describe() const override { return path_ + " (live simulation)"; }
-  const Mesh* map() const override { return &sim_->map(); }
+  const Mesh* map() const override { return &sim_->world(); }
 
  private:
   std::string path_;

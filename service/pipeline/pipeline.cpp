@@ -1,6 +1,6 @@
 #include "pipeline/pipeline.hpp"
 
-#include <polyloc/eval/ground_truth.hpp>  // isFinite(Pose)
+#include <polyloc/geometry/domain.hpp>
 #include <polyloc/vrs/moving_objects.hpp>
 
 #include <algorithm>
@@ -47,7 +47,7 @@ void Pipeline::initGlobal(int64_t stamp_ns) {
 void Pipeline::addOdometry(int64_t stamp_ns, const Pose& odom_T_base) {
   ++counters_.odometry;
   loc_->addOdometry(stamp_ns, odom_T_base);
-  if (isFinite(odom_T_base)) odom_T_base_ = odom_T_base, have_odom_ = true;
+  if (domain::validPose(odom_T_base)) odom_T_base_ = odom_T_base, have_odom_ = true;
 }
 
 void Pipeline::afterScan(bool updated, PipelineSink& sink) {
@@ -55,7 +55,7 @@ void Pipeline::afterScan(bool updated, PipelineSink& sink) {
   const MclEstimate e = loc_->estimate();
   // The estimate is at the scan's stamp; the odometry read so far is at most that new (inputs
   // come in stamp order), so this correction holds until the next update (REP-105).
-  if (isFinite(e.pose) && e.status != MclStatus::Initialising) map_T_odom_ = e.pose * odom_T_base_.inverse();
+  if (domain::validPose(e.pose) && e.status != MclStatus::Initialising) map_T_odom_ = e.pose * odom_T_base_.inverse();
   ++counters_.poses;
   sink.onPose(e, map_T_odom_);
 }

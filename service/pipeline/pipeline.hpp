@@ -1,4 +1,4 @@
-// The kernels composed for live frames (the data flow of DESIGN.md): odometry into the
+// The kernels composed for live frames (docs/polylocd.md, "What it does with each frame"): odometry into the
 // localiser's prediction; every range frame into the localiser, the VRS and (level scanners)
 // people tracking; depth frames as ranges into the localiser and, filtered, as points into the
 // VRS. Outputs go to a sink the moment they are ready: the pose first (it is what a controller
@@ -66,7 +66,6 @@ class Pipeline {
 
   const PolylocConfig& config() const { return cfg_; }
   const Localizer& localizer() const { return *loc_; }
-  Pose mapToOdom() const { return map_T_odom_; }
   // Where the robot is now: the last estimate moved on by the odometry since.
   Pose currentPose() const { return map_T_odom_ * odom_T_base_; }
   const PipelineCounters& counters() const { return counters_; }

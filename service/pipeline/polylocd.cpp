@@ -23,13 +23,6 @@ namespace {
 std::atomic<bool> g_stop{false};
 extern "C" void onSignal(int) { g_stop.store(true); }
 
-std::vector<double> numbers(const std::string& s) {
-  std::vector<double> v;
-  std::stringstream ss(s);
-  for (std::string tok; std::getline(ss, tok, ',');) v.push_back(polyloc::cli::parseNumber(tok, "--init"));
-  return v;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -39,7 +32,7 @@ int main(int argc, char** argv) {
   bool global = false, check = false;
   app.add_option("--config", config, "polyloc config: map, robot, rig, mcl, vrs, tracking, depth_filter, polylocd")->required();
   app.add_option("--instance", instance, "Segment name /polyloc.NAME (default: polylocd.instance)");
-  app.add_option("--init", init, "Start pose x,y,yaw_deg (default: polylocd.init, else global localisation)");
+  app.add_option("--init", init, "Start pose x,y,yaw or x,y,z,yaw (m, deg; default: polylocd.init, else global localisation)");
   app.add_flag("--global", global, "Start with global localisation, whatever the config says");
   app.add_option("--threads", threads, "TBB threads for the kernels (0: all cores)")->check(polyloc::cli::finiteRange(0, 4096));
   app.add_option("--control-port", port, "TCP control port (0: any free one; default: polylocd.control.port)");
@@ -62,11 +55,7 @@ int main(int argc, char** argv) {
     if (!log_level.empty()) d.log_level = log_level;
     if (global) d.init.reset();
     if (!init.empty()) {
-      const auto v = numbers(init);
-      if (v.size() != 3) throw std::runtime_error("--init: expected x,y,yaw_deg");
-      if (auto why = polyloc::domain::checkValue("yaw", polyloc::deg2rad(v[2]), polyloc::domain::kMaxAngle))
-        throw std::runtime_error("--init: " + *why);
-      d.init = polyloc::pipeline::InitPose{polyloc::Pose::planar(v[0], v[1], polyloc::deg2rad(v[2]))};
+      d.init = polyloc::pipeline::InitPose{polyloc::cli::parseStartPose(init, "--init")};
     }
     spdlog::set_level(spdlog::level::from_str(d.log_level));
     spdlog::set_pattern("[%H:%M:%S.%e] [polylocd] [%l] %v");

@@ -37,7 +37,6 @@ inline constexpr uint32_t FRAME_ERROR = 0xffffffffu;
 }  // namespace cmd
 
 inline constexpr uint32_t replyId(uint32_t command) { return command | cmd::kReplyBit; }
-inline constexpr bool isReply(uint32_t command) { return (command & cmd::kReplyBit) != 0; }
 
 // First data word of every reply: 0 ok, > 0 warning (the data is valid but qualified),
 // < 0 error (no data follows the status).

@@ -39,7 +39,7 @@ std::optional<StampedPose> firstTruth(const JobOptions& o, int64_t from_ns) {
     ++i;
     if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
       const Pose pose = fromMsgPose(p->pose);
-      if (isFinite(pose)) return StampedPose{msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns, pose};
+      if (domain::validPose(pose)) return StampedPose{msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns, pose};
     }
   }
   return std::nullopt;
@@ -225,7 +225,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                           e.map_fit});
     if (o.stop_after_updates > 0 && e.updates >= o.stop_after_updates) break;
     if (!o.plot) continue;
-    if (isFinite(e.pose)) res.plot.estimate_path.emplace_back(float(e.pose.x()), float(e.pose.y()));
+    if (domain::validPose(e.pose)) res.plot.estimate_path.emplace_back(float(e.pose.x()), float(e.pose.y()));
     if (next_cloud < 3 && double(e.stamp_ns - plot_from) >= next_cloud * plot_span / 3) {
       res.plot.clouds.push_back(snapshot(e));
       ++next_cloud;

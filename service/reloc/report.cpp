@@ -1,5 +1,6 @@
 #include "reloc/report.hpp"
 
+#include <polyloc/geometry/domain.hpp>
 #include <polyloc/io/atomic_file.hpp>
 #include <polyloc/eval/stats.hpp>
 #include <polyloc/io/tum.hpp>
@@ -138,7 +139,7 @@ void drawPlot(const Mesh& mesh, const JobResult& r, const TrajectoryMetrics* met
               const std::string& command) {
   viz::LocalizePlotData plot = r.plot;
   for (const auto& p : r.truth)
-    if (isFinite(p.pose)) plot.truth_path.emplace_back(float(p.pose.x()), float(p.pose.y()));
+    if (domain::validPose(p.pose)) plot.truth_path.emplace_back(float(p.pose.x()), float(p.pose.y()));
   const double ups = r.filter_s > 0 ? double(r.updates) / r.filter_s : 0.0;
   plot.title = fmt::format("{} {} ({}, {} updates, {:.1f} updates/s)", command,
                            std::filesystem::path(r.input).filename().string(), r.init_mode, r.updates, ups);

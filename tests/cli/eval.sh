@@ -8,7 +8,7 @@ POLYLOC=$1
 SRC=$2
 PY=$(command -v python3)
 cd "$SRC"
-out=$("$POLYLOC" eval global --scenario maps/scenarios/lab_tour.yaml --trials 2 --rounds 5 --hold 3 --particles 20000 --json)
+out=$("$POLYLOC" eval global --scenario maps/scenarios/lab_tour.yaml --trials 2 --rounds 5 --hold 3 --global-particles 20000 --json)
 echo "$out" | "$PY" -c '
 import json, sys
 j = json.load(sys.stdin)
@@ -33,7 +33,10 @@ assert r["rounds"] == 12, j
 assert j["succeeded"] == 1 and r["converged"] and r["final_pos_err_m"] < 0.015, j  # recovered, to mm
 print("kidnap ok")
 '
-test -s "$tmp/k.png"
+# The plot (cmd_eval.cpp): the lab slice and each trial's start, green when it converged (red
+# otherwise; the map has 253 red pixels of its own and no green): 221 green pixels here.
+"$PY" tests/tools/png_check.py "$tmp/k.png" --min-size 1000x600 --min-colours 200 --ink 0.03,0.3 \
+  --colour converged_start=1EA03C:40:110
 if "$POLYLOC" eval global --scenario maps/scenarios/lab_tour.yaml --trials 0 2> "$tmp/err"; then
   echo "--trials 0 was accepted"; exit 1
 fi

@@ -21,7 +21,12 @@ assert 0.5 < j["mota"] <= 1 and 0 < j["track_rmse_m"] < 0.2, j
 assert j["scans"] == 2 * j["frames"] and j["rejected_scans"] == 0, j
 print("eval tracking ok: MOTA", round(j["mota"], 3))
 '
-test -s "$tmp/t.png"
+# The plot (viz/tracking_plot.cpp): robot path blue, people walking in view purple, each track in
+# the colour of its id. These 10 s: 220 blue, 5,118 purple, tracks 499 green and 442 magenta
+# pixels (a 0.5 s run: 11, 780, 54, 9): half of each is required.
+"$PY" tests/tools/png_check.py "$tmp/t.png" --min-size 1000x600 --min-colours 500 --ink 0.05,0.3 \
+  --colour robot=285ADC:40:110 --colour people=963CAA:40:2500 --colour track_green=1EA03C:40:250 \
+  --colour track_magenta=C828A0:40:220
 "$POLYLOC" eval tracking --scenario maps/scenarios/crowd.yaml --duration 3 --odometry \
   --tracking maps/config/tracking_odometry.yaml --json > /dev/null
 printf 'tracking:\n  motion: {margn: 0.1}\n' > "$tmp/bad.yaml"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # polyloc localize, as a user types it: 20 s of the office patrol simulated, localised from the
-# first ground-truth pose with --json (keys, a loose accuracy bound: the targets are measured in
-# docs/benchmarks.md), the TUM, CSV and PNG outputs; a CARMEN log with bad scans (rejected,
-# counted, no crash), also on a rig without scanners; a missing input (exit 1 naming the path).
+# first ground-truth pose with --json (keys; ATE, p95 and p95 yaw within 1.5x of the office figures
+# of docs/benchmarks.md), the TUM, CSV and PNG outputs (png_check: truth and estimate drawn); a
+# CARMEN log with bad scans (rejected, counted, no crash), also on a rig without scanners; a
+# missing input (exit 1 naming the path). ramp_6dof's figures: localize_ramp.sh.
 set -euo pipefail
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
@@ -30,7 +31,7 @@ assert j["updates_per_s"] > 0 and j["wall_s"] > 0
 # docs/benchmarks.md claims 0.07 cm ATE and 0.13 cm p95 on office_patrol (refined): 1.5x of each.
 assert math.isfinite(j["ate_rmse_m"]) and j["ate_rmse_m"] < 0.0011, j["ate_rmse_m"]
 assert j["p95_pos_err_m"] < 0.002, j["p95_pos_err_m"]
-assert j["p95_yaw_err_deg"] < 10, j["p95_yaw_err_deg"]
+assert j["p95_yaw_err_deg"] <= 1.5 * 0.01, j["p95_yaw_err_deg"]   # 0.01 deg claimed (x1.5); 0.0094 here
 assert j["converged_after_s"] is not None and j["converged_after_s"] < 5, j["converged_after_s"]
 assert j["counters"]["scans_wrong_size"] == 0 and j["counters"]["scans_unknown_sensor"] == 0, j["counters"]
 tum = [l for l in open(sys.argv[2]) if l.strip() and not l.startswith("#")]
@@ -39,7 +40,11 @@ csv = open(sys.argv[3]).read().splitlines()
 assert csv[0].startswith("stamp_ns,x,y,z,") and "pos_err_m" in csv[0], csv[0]
 assert len(csv) == 1 + j["evaluated_frames"]
 PY
-[ "$(head -c 8 "$tmp/loc.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]
+# The plot (viz/localize_plot.cpp): truth blue, estimate red, particle clouds orange, magenta,
+# cyan, brown. The office map itself has none of blue, red and magenta (a 0.5 s run's plot: 0
+# pixels each); these 20 s give 465 blue, 396 red, 231 magenta pixels: half of each is required.
+python3 tests/tools/png_check.py "$tmp/loc.png" --min-size 1000x1000 --min-colours 500 --ink 0.05,0.3 \
+  --colour truth=285ADC:40:230 --colour estimate=DC1E1E:40:200 --colour cloud=C828A0:40:115
 # The same run localised on a 2D grid (mcl.caster grid2d, sliced at the LMS200s' 0.20 m): a grid
 # deployment of the same filter; a sensor the rig lacks is a config error naming file and line.
 cat >"$tmp/grid.yaml" <<YAML
@@ -48,8 +53,12 @@ robot: {footprint: [[0.35, 0.3], [-0.35, 0.3], [-0.35, -0.3], [0.35, -0.3]], hei
 rig: $src/maps/rigs/taser.yaml
 mcl: {caster: grid2d, caster_resolution: 0.05, refine: {enabled: true}}
 YAML
+# No documented figure for it: measured here on these 20 s (seeded, the same every run) ATE 2.39 cm,
+# p95 3.53 cm, p95 yaw 0.91 deg; bounds at 1.5x of those.
 out=$("$polyloc" localize --config "$tmp/grid.yaml" --input "$tmp/run.mcap" --json 2>"$tmp/err")
-python3 -c 'import json,sys; j=json.loads(sys.argv[1]); assert j["ate_rmse_m"] < 0.3 and j["updates"] > 10, j' "$out"
+python3 -c 'import json,sys; j=json.loads(sys.argv[1]); print("grid2d:", {k: j[k] for k in ("ate_rmse_m", "p95_pos_err_m", "p95_yaw_err_deg")})
+assert j["updates"] > 10 and j["status"] == "tracking", j
+assert j["ate_rmse_m"] <= 1.5 * 0.0239 and j["p95_pos_err_m"] <= 1.5 * 0.0353 and j["p95_yaw_err_deg"] <= 1.5 * 0.91, j' "$out"
 sed -i 's/caster: grid2d, /caster: grid2d, sensors: [lms_front, lms_side], /' "$tmp/grid.yaml"
 if "$polyloc" localize --config "$tmp/grid.yaml" --input "$tmp/run.mcap" 2>"$tmp/err"; then exit 1; fi
 grep -q "grid.yaml:4:.*mcl.sensors.*'lms_side' is not in rig" "$tmp/err" || { cat "$tmp/err"; exit 1; }

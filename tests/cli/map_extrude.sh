@@ -14,7 +14,7 @@ px = bytes(0 if x in (0, w - 1) or y in (0, h - 1) else 254 for y in range(h) fo
 open(sys.argv[1], "wb").write(b"P5\n%d %d\n255\n" % (w, h) + px)
 PY
 printf 'image: g.pgm\nresolution: 0.1\norigin: [-1.0, -0.5, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n' >"$tmp/g.yaml"
-out=$("$polyloc" map extrude --grid "$tmp/g.yaml" --height 2.0 --out "$tmp/g.obj" --resolution-merge --json)
+out=$("$polyloc" map extrude --grid "$tmp/g.yaml" --wall-height 2.0 --out "$tmp/g.obj" --resolution-merge --json)
 echo "$out"
 grep -q '"closed":true' <<<"$out"
 grep -q '"occupied_cells":56' <<<"$out"
@@ -51,7 +51,10 @@ with open(sys.argv[1], "w") as f:
 PY
 out=$("$polyloc" map extrude --carmen "$tmp/room.log" --out "$tmp/room.obj" --save-grid "$tmp/room_grid.yaml" \
   --plot "$tmp/room.png" --json 2>"$tmp/err")
-[ "$(head -c 8 "$tmp/room.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]
+# The plot (cmd_map_extrude.cpp): the grid (occupied black), the extruded walls' slice red, the
+# laser path blue: 1,158 red and 787 blue pixels here, half of each required.
+python3 "$(dirname "$0")/../tools/png_check.py" "$tmp/room.png" --min-size 200x150 --min-colours 50 --ink 0.05,0.5 \
+  --colour walls=DC1E1E:40:580 --colour path=285ADC:40:390
 echo "$out"
 python3 - "$out" "$tmp/room.log" <<'PY'
 import json, sys

@@ -1,7 +1,7 @@
 #!/bin/bash
 # polylocd end to end, as a user runs it: the config is checked (a bad key is named with its
 # line), the daemon starts, `polyloc play` feeds 12 s of the lab tour simulated live at real
-# time, the poses that come back follow the ground truth, hardly a frame is dropped, SIGTERM
+# time, the poses that come back follow the ground truth, no frame is dropped, SIGTERM
 # stops the daemon cleanly; play without a daemon says which segment is missing.
 set -euo pipefail
 POLYLOC=$1
@@ -43,8 +43,26 @@ for k in ("sent", "poses", "latency_ms", "dropped", "rejected", "per_channel", "
     assert k in j, k
 assert j["poses"] > 30, j["poses"]
 lost = j["dropped"] + j["rejected"]
-assert lost <= 0.02 * j["sent"], (lost, j["sent"])   # a loaded CI machine may be late now and then
-assert j["accuracy"]["p95_pos_err_m"] < 0.05, j["accuracy"]
+# No frame lost while polylocd keeps up: it loses one only as stale, read 500 ms after its stamp,
+# or as an overrun, when its ring (0.8 s and more) laps it. docs/benchmarks.md: latency p99 20 ms
+# on a quiet machine, 0 of 18,908 frames lost over the whole tour, also with 3 builds loading it.
+# Only when polylocd visibly fell behind, a pose published 250 ms (half of max_age) or more after
+# its scan, may frames be lost, at most 1 s of them. Measured at load 6-8 on these 2 cores (other
+# builds running): latency p99 300-640 ms, and 0 lost in 6 of 9 runs, else 13, 77, 82 and 87 of
+# 1,628 (0.1-0.6 s of frames, all stale or ToF overruns, at about 4 s into the run). The 2 %
+# allowed before failed two of those runs and would pass a quiet-machine polylocd that drops
+# 0.2 s of frames.
+kept_up = j["latency_ms"]["max"] < 250
+print(f"latency max {j['latency_ms']['max']:.0f} ms, play late {j['late']}, lost {lost} of {j['sent']}")
+other = {ch: {k: e[k] for k in ("nan", "size", "future") if e[k]} for ch, e in j["polylocd"]["inputs"].items()}
+assert not any(other.values()), ("frames rejected as broken", other)
+if kept_up:
+    assert lost == 0, ("lost", lost, "of", j["sent"], "though polylocd kept up", j["polylocd"]["inputs"])
+else:
+    assert lost <= j["sent"] / j["wall_s"], ("lost", lost, "of", j["sent"], "more than 1 s of frames", j["polylocd"]["inputs"])
+# docs/benchmarks.md, polylocd end to end on the lab tour: ATE 3.5 mm, p95 6.7 mm; 1.5x of each
+# (these 12 s: 3.1 mm and 6.3 mm).
+assert j["accuracy"]["ate_rmse_m"] <= 1.5 * 0.0035 and j["accuracy"]["p95_pos_err_m"] <= 1.5 * 0.0067, j["accuracy"]
 assert j["latency_ms"]["p50"] > 0
 for ch in ("odom", "scan/s300_front_left", "depth/tof_front"):
     assert j["per_channel"][ch] > 0 and j["polylocd"]["inputs"][ch]["taken"] > 0, ch
@@ -52,7 +70,11 @@ assert j["polylocd"]["vrs"] > 50 and j["polylocd"]["tracks"] > 50, j["polylocd"]
 print("polylocd ok:", j["poses"], "poses, p95", round(j["accuracy"]["p95_pos_err_m"], 4), "m, latency p50",
       round(j["latency_ms"]["p50"], 2), "ms, lost", lost)
 PYEOF
-test -s "$tmp/play.png"
+# The plot (viz/localize_plot.cpp): truth blue, the poses polylocd published red (the lab map
+# has 253 red pixels of its own, no blue): 292 blue, 454 red here; required half the truth's,
+# the map's red plus half the estimate's.
+"$PY" tests/tools/png_check.py "$tmp/play.png" --min-size 1000x600 --min-colours 300 --ink 0.05,0.3 \
+  --colour truth=285ADC:40:146 --colour estimate=DC1E1E:40:353
 
 # The control endpoint of the running daemon (its port from the log: --control-port 0).
 port=$(sed -n 's/.*control endpoint on 127.0.0.1:\([0-9]*\).*/\1/p' "$tmp/polylocd.log" | head -1)

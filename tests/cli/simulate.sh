@@ -28,7 +28,13 @@ assert j["messages"] == sum(j["topics"].values())
 PY
 # Ground truth at 50 Hz (a header line, then 501 poses); a PNG.
 [ "$(grep -vc '^#' "$tmp/gt.tum")" = 501 ]
-[ "$(head -c 8 "$tmp/run.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]
+# The plot (viz/sim_plot.cpp): truth path blue, each sensor's points at the end in its palette
+# colour (rig order: s300_front_left red, s300_rear_right green, urg_front orange, urg_left cyan,
+# urg_rear magenta, urg_right brown, tof_front teal). Measured: 399 blue, 1,765 green, 1,379
+# cyan, 1,511 magenta, 7,496 teal pixels (the lab map draws none of these); half of each required.
+python3 tests/tools/png_check.py "$tmp/run.png" --min-size 1000x700 --min-colours 500 --ink 0.05,0.3 \
+  --colour truth=285ADC:40:200 --colour s300_rear_right=1EA03C:40:880 --colour urg_left=00AAC8:40:690 \
+  --colour urg_rear=C828A0:40:750 --colour tof_front=147878:25:3700
 # The recording reads back with the same topics.
 "$polyloc" info "$tmp/run.mcap" --json | python3 -c 'import json,sys; t=json.load(sys.stdin)["topics"]; assert len(t) == 16, t'
 # Same seed, same bytes; another seed, other bytes. The summary goes to stdout.

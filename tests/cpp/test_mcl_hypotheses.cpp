@@ -2,7 +2,7 @@
 // mesh, planting them back; and the blocked-particle guard (blocked_max_mass).
 #include "mcl_fixtures.hpp"
 
-#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/free_floor.hpp>
 #include <polyloc/mcl/hypotheses.hpp>
 #include <polyloc/mcl/refine.hpp>
 

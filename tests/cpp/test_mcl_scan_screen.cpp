@@ -2,7 +2,7 @@
 // beams land on the map's 2D distance transform.
 #include "mcl_fixtures.hpp"
 
-#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/free_floor.hpp>
 #include <polyloc/mcl/scan_screen.hpp>
 
 #include <gtest/gtest.h>

@@ -192,30 +192,43 @@ TEST(Polylocd, RejectsBadFramesAndGoesOn) {
   EXPECT_EQ(h.input[scan].rejected_size, 1u);
 }
 
-// An input that stops is reported silent in the health channel, and recovers.
+// An input that stops is reported silent in the health channel, and recovers. No fixed sleeps
+// (a loaded machine stretches them past the timeout): each state is waited for, and silence is
+// checked not to come before the timeout has passed since the last frame.
 TEST(Polylocd, ReportsSilentInputs) {
+  constexpr int64_t kTimeoutNs = 200'000'000;
   ServiceConfig c = labConfig(uniqueInstance("silent"));
-  c.daemon.input_timeout_ns = 200'000'000;
+  c.daemon.input_timeout_ns = kTimeoutNs;
   c.daemon.health_rate_hz = 50;
   Running d(std::move(c));
   shm::Segment seg = attachReady(d.daemon->config().daemon.instance);
   const int odom = seg.find("odom");
   shm::Writer wo(seg, odom);
+  std::atomic<int64_t> last_sent{0};
   auto send = [&] {
     const int64_t now = realtimeNs();
     const polyloc_odometry o = odometryPayload(now, Pose::planar(1, 2, 0.3));
     wo.write(&o, sizeof o, now);
+    last_sent = now;
   };
-  send();
-  std::this_thread::sleep_for(100ms);
-  EXPECT_FALSE(health(seg)->input[odom].silent);
-  std::this_thread::sleep_for(400ms);
-  auto h = health(seg);
-  EXPECT_TRUE(h->input[odom].silent);
+  // Waits up to 20 s for a health frame that satisfies `ok`, sending every 20 ms if `feeding`.
+  auto waitFor = [&](bool feeding, auto ok) -> std::optional<polyloc_health> {
+    const auto end = std::chrono::steady_clock::now() + 20s;
+    while (std::chrono::steady_clock::now() < end) {
+      if (feeding) send();
+      std::this_thread::sleep_for(20ms);
+      if (auto h = health(seg); h && ok(*h)) return h;
+    }
+    return std::nullopt;
+  };
+  auto h = waitFor(true, [&](const polyloc_health& x) { return x.input[odom].taken > 0 && !x.input[odom].silent; });
+  ASSERT_TRUE(h) << "odometry fed every 20 ms was never reported as heard";
+  h = waitFor(false, [&](const polyloc_health& x) { return x.input[odom].silent != 0; });
+  ASSERT_TRUE(h) << "odometry stopped 20 s ago is not reported silent";
   EXPECT_TRUE(h->flags & 1u);
-  send();
-  std::this_thread::sleep_for(100ms);
-  EXPECT_FALSE(health(seg)->input[odom].silent);
+  EXPECT_GE(h->stamp_ns - last_sent, kTimeoutNs - 5'000'000) << "reported silent before the input timeout";
+  h = waitFor(true, [&](const polyloc_health& x) { return !x.input[odom].silent; });
+  ASSERT_TRUE(h) << "odometry fed again is still reported silent";
 }
 
 // A restarted daemon bumps the generation: an attached client sees stale() and re-attaches.

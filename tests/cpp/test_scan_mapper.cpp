@@ -336,7 +336,7 @@ TEST(MapExtrudeCarmen, ExtrudedWallsAreWhereTheRoomsAre) {
   const Room room;
   const std::string log = dir.write("room.log", roomLog(room));
   const CliRun r = cli("map extrude --carmen " + log + " --out " + dir.file("room.obj") + " --save-grid " +
-                        dir.file("grid/room.yaml") + " --height 2.5 --json",
+                        dir.file("grid/room.yaml") + " --wall-height 2.5 --json",
                     dir);
   ASSERT_EQ(r.rc, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);

@@ -180,7 +180,7 @@ TEST(SimSensors, PeopleAppearInScans) {
   const size_t mid = f.exact.size() / 2;
   EXPECT_NEAR(f.exact[mid], 2.0 - 0.12, 1e-4);  // the front of the torso
   EXPECT_EQ(f.label[mid], sim.personLabel());
-  EXPECT_EQ(sim.map().label_names[sim.personLabel()], "person");
+  EXPECT_EQ(sim.world().label_names[sim.personLabel()], "person");
   // About 0.5 m wide (arms included) at 2 m: beams within +-7 deg hit the person, at 10 deg not.
   const double res = sickS300().resolution_rad;
   EXPECT_EQ(f.label[mid + static_cast<size_t>(deg2rad(6.5) / res)], sim.personLabel());

@@ -12,17 +12,23 @@ import pytest
 import polyloc
 
 
-def build_dir():
-    """The build tree of this module (build/python/polyloc -> build), if it has the CLI."""
+def cli_candidates():
+    """Where the polyloc CLI may be: $POLYLOC_BIN_DIR, then build/bin beside this module's build."""
     bins = [pathlib.Path(os.environ["POLYLOC_BIN_DIR"])] if "POLYLOC_BIN_DIR" in os.environ else []
     bins.append(pathlib.Path(polyloc.__file__).resolve().parents[2] / "bin")
-    return next((b.parent for b in bins if (b / "polyloc").exists()), None)
+    return [b / "polyloc" for b in bins]
+
+
+def build_dir():
+    """The build tree of this module (build/python/polyloc -> build), if it has the CLI."""
+    return next((p.parent.parent for p in cli_candidates() if p.exists()), None)
 
 
 def test_carmen_log_to_map_and_back(root, tmp_path):
     build = build_dir()
-    if build is None:
-        pytest.skip("the polyloc CLI is not built")
+    if build is None:   # a failure, not a skip: a missing binary must not pass as a green suite
+        pytest.fail("the polyloc CLI is not built: no " + " or ".join(map(str, cli_candidates()))
+                    + " (cmake --build build --target polyloc, or set POLYLOC_BIN_DIR)")
     env = dict(os.environ, PYTHONPATH=str(pathlib.Path(polyloc.__file__).resolve().parents[1]))
     done = subprocess.run(["bash", "bench/carmen_roundtrip.sh", str(build), "20", str(tmp_path), sys.executable],
                           cwd=root, env=env, capture_output=True, text=True, timeout=240)

@@ -260,19 +260,24 @@ def test_daemon_channels_are_polylocds_table(instance, lab_config):
         assert seg.channels()[names.index("vrs")]["count"] == 720   # 0.5 deg segments
 
 
-def polylocd_binary():
-    """build/bin/polylocd beside this module's build (build/python/polyloc), or $POLYLOC_BIN_DIR's."""
+def polylocd_candidates():
+    """$POLYLOC_BIN_DIR/polylocd, then build/bin/polylocd beside this module's build (build/python/polyloc)."""
     candidates = [pathlib.Path(os.environ["POLYLOC_BIN_DIR"]) / "polylocd"] if "POLYLOC_BIN_DIR" in os.environ else []
     candidates.append(pathlib.Path(polyloc.__file__).resolve().parents[2] / "bin" / "polylocd")
-    return next((p for p in candidates if p.exists()), None)
+    return candidates
+
+
+def polylocd_binary():
+    return next((p for p in polylocd_candidates() if p.exists()), None)
 
 
 def test_polylocd_end_to_end(root, tmp_path, instance):
     """polylocd fed 3 s of the simulated lab tour at real time from Python: poses near the truth,
     every frame accounted for in health, a clean exit on SIGTERM."""
     binary = polylocd_binary()
-    if binary is None:
-        pytest.skip("polylocd is not built (cmake --build build --target polylocd)")
+    if binary is None:   # a failure, not a skip: a missing binary must not pass as a green suite
+        pytest.fail("polylocd is not built: no " + " or ".join(map(str, polylocd_candidates()))
+                    + " (cmake --build build --target polylocd, or set POLYLOC_BIN_DIR)")
     run = polyloc.simulate(str(root / "maps/scenarios/lab_tour.yaml"), duration=3.0)
     log = open(tmp_path / "polylocd.log", "w+")
     proc = subprocess.Popen([str(binary), "--config", str(root / "maps/config/lab.yaml"), "--instance", instance,
@@ -283,8 +288,13 @@ def test_polylocd_end_to_end(root, tmp_path, instance):
         assert seg.owner_pid == proc.pid and seg.state == "ready"
         poses = shm.Reader(seg, "pose")
         health = shm.Reader(seg, "health")
-        got = []
-        feed = shm.play(seg, run, on_event=lambda _: got.extend(poses.drain()))
+        got, feeder_late = [], [0]
+
+        def on_event(wall_ns):  # after each frame: read the poses, note how late the feeder is
+            feeder_late[0] = max(feeder_late[0], time.time_ns() - wall_ns)
+            got.extend(poses.drain())
+
+        feed = shm.play(seg, run, on_event=on_event)
         deadline = time.monotonic() + 3
         inputs, h = {}, None
         while time.monotonic() < deadline:  # until health has accounted for every frame sent
@@ -299,11 +309,31 @@ def test_polylocd_end_to_end(root, tmp_path, instance):
 
         print(f"sent {feed.sent}\nhealth {h}")
         assert set(feed.sent) == {c["name"] for c in seg.channels() if c["direction"] == "input"}
+        # Every frame sent is taken: nothing is lost by design while polylocd keeps up. An input
+        # frame is lost only (docs/interface.md) as stale, when it is read more than max_age
+        # (500 ms) after its stamp, or as an overrun, when the ring laps the reader (16 slots,
+        # odometry 64: 0.8 s of ToF frames, 1.28 s or more of the others). docs/benchmarks.md:
+        # latency p99 20 ms on a quiet machine, 0 of 18,908 frames lost over the whole tour, also
+        # with 3 builds loading it. So: no frame lost, unless polylocd visibly fell behind (a pose
+        # published 250 ms, half of max_age, or more after its scan) or the feeder here ran late
+        # by 0.1 s or more; then at most 1 s of frames. (At load 6-8 on 2 cores these 3 s lost
+        # nothing in 8 runs; the 12 s of tests/cli/polylocd.sh lost 0.1-0.6 s of frames in 4 of
+        # 9, at about 4 s in, with latencies of 300-690 ms.) The 20 % allowed before would have
+        # hidden a polylocd that drops 0.6 s of frames on a quiet machine.
+        latency_s = max((p["latency_ns"] for p in got), default=0) * 1e-9
+        late_s = feeder_late[0] * 1e-9
+        sent = sum(feed.sent.values())
+        lost = {}
         for ch, n in feed.sent.items():
             e = inputs[ch]
-            lost = e["rejected_nan"] + e["rejected_size"] + e["rejected_stale"] + e["rejected_future"] + e["overruns"]
-            assert e["taken"] + lost == n, (ch, e, n)
-            assert e["taken"] >= 0.8 * n and e["rejected_size"] == e["rejected_nan"] == 0, (ch, e, n)
+            lost[ch] = e["rejected_nan"] + e["rejected_size"] + e["rejected_stale"] + e["rejected_future"] + e["overruns"]
+            assert e["taken"] + lost[ch] == n, (ch, e, n)
+            assert e["rejected_nan"] == e["rejected_size"] == e["rejected_future"] == 0, (ch, e, n)
+        print(f"latency max {latency_s:.3f} s, feeder at most {late_s:.3f} s late; lost {sum(lost.values())} of {sent}")
+        if latency_s < 0.25 and late_s < 0.1:
+            assert sum(lost.values()) == 0, f"frames lost though polylocd and the feeder kept up: {lost}"
+        else:
+            assert sum(lost.values()) <= sent / 3.0, f"more than 1 s of frames lost: {lost}"
         assert h["poses"] >= len(got) >= 8 and poses.overruns == 0
         errors = [np.hypot(p["pose"].x - t.x, p["pose"].y - t.y)
                   for p in got for t in [run.truth_at(p["stamp_ns"] - feed.shift_ns)]]

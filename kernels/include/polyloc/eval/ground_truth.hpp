@@ -34,6 +34,5 @@ class GroundTruth {
   uint64_t dropped_ = 0;
 };
 
-bool isFinite(const Pose& p);
 
 }  // namespace polyloc

@@ -20,6 +20,8 @@ namespace polyloc::domain {
 std::optional<std::string> checkValue(const char* name, double v, double limit);
 // Finite, unit-norm rotation, |coordinate| <= kMaxCoordinate.
 std::optional<std::string> checkPose(const Pose& p);
+// The one rule for "a usable pose" wherever poses are filtered (ground truth, VRS, pipeline).
+inline bool validPose(const Pose& p) { return !checkPose(p).has_value(); }
 // As checkPose, and inside `map` grown by kMapMargin in every direction.
 std::optional<std::string> checkPose(const Pose& p, const Eigen::AlignedBox3f& map);
 // x, y, yaw as a user types them; the point must be inside the map's box (plus margin) in x, y.

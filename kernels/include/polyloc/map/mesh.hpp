@@ -38,6 +38,10 @@ struct Mesh {
                    uint32_t label);
   void addQuad(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
                const Eigen::Vector3f& d, uint32_t label);
+  // Append a closed box [lo, hi] given in a frame turned by yaw about z and shifted by origin
+  // (x, y): 12 triangles, counter-clockwise from outside, on 8 vertices of its own.
+  void addBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, uint32_t label,
+              const Eigen::Vector2d& origin = Eigen::Vector2d::Zero(), double yaw = 0.0);
 };
 
 // The label's class: the object or material name lowercased, with trailing digits and

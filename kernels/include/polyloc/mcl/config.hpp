@@ -106,7 +106,7 @@ struct RefineConfig {
   // scanners' view of the floor corrects z, roll and pitch taken from the floor under the robot.
   int dof = 0;
   // Raw ToF frames carry flying pixels and multipath returns that pass the residual gate and
-  // bias the fit (about 0.2 deg of yaw on lab_tour); filtered depth (issue 5) may go in.
+  // bias the fit (about 0.2 deg of yaw on lab_tour); filtered depth could.
   bool depth_cameras = false;
 };
 

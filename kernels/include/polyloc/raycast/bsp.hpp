@@ -61,6 +61,7 @@ class BspCaster final : public PerRayCaster {
                  uint8_t* free) const override;
 
   const BspStats& stats() const;
+  size_t memoryBytes() const override { return stats().node_bytes + stats().triangle_ref_bytes; }
 
  private:
   void traceRay(const HitBuffers& out, size_t i, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t0,

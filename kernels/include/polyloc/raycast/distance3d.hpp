@@ -47,7 +47,7 @@ class Distance3dCaster final : public PerRayCaster {
 
   const DistanceField3D& field() const;
   bool inside(const Eigen::Vector3f& p) const;  // nearest node is inside a solid
-  size_t memoryBytes() const;                   // field plus inside marks
+  size_t memoryBytes() const override;                 // field plus inside marks
 
  protected:
   void traceRay(const HitBuffers& out, size_t i, const Eigen::Vector3f& o, const Eigen::Vector3f& d,

@@ -1,4 +1,4 @@
-// Embree 3 backend: one scene per map (BVH built once), packets of 16 for the beams of one pose,
+// Embree: one scene per map (BVH built once), packets of 16 for the beams of one pose,
 // TBB over poses in an arena of the configured size, nothing allocated in the hot path.
 #pragma once
 
@@ -33,6 +33,9 @@ class EmbreeCaster final : public RayCaster {
                  uint8_t* free) const override;
   void setThreads(int threads) override;
   int threads() const override;
+  // What Embree's device allocated (BVH, buffers; its memory monitor) plus the mesh copy and
+  // normals kept for results.
+  size_t memoryBytes() const override;
 
   // The plain reference: one rtcIntersect1 per ray over the same rays as castScans, same
   // threading and options, no windows, only ranges. Kept for the benchmark that holds the

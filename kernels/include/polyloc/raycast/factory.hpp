@@ -26,8 +26,4 @@ const std::vector<std::string>& casterNames();
 std::unique_ptr<RayCaster> makeCaster(const std::string& name, const Mesh& mesh,
                                       const CasterOptions& options = {});
 
-// Bytes the caster holds for its map representation when the backend can say (grid2d,
-// distance3d, octomap), else 0 (embree: measure the process instead).
-size_t casterMemoryBytes(const RayCaster& caster);
-
 }  // namespace polyloc

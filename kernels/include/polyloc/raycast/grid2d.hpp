@@ -55,7 +55,7 @@ class Grid2dCaster final : public PerRayCaster {
   double originX() const;
   double originY() const;
   OccupancyGrid grid() const;  // as a map grid (origin at the grid corner, yaw 0)
-  size_t memoryBytes() const;  // cells, their triangles and the distance transform
+  size_t memoryBytes() const override;  // cells, their triangles and the distance transform
 
  protected:
   void traceRay(const HitBuffers& out, size_t i, const Eigen::Vector3f& o, const Eigen::Vector3f& d,

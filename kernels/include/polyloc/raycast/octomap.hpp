@@ -40,7 +40,7 @@ class OctomapCaster final : public PerRayCaster {
 
   size_t occupiedVoxels() const;
   bool occupied(const Eigen::Vector3f& p) const;
-  size_t memoryBytes() const;  // octomap's memoryUsage() plus the voxel -> triangle table
+  size_t memoryBytes() const override;  // octomap's memoryUsage() plus the voxel -> triangle table
 
  protected:
   void traceRay(const HitBuffers& out, size_t i, const Eigen::Vector3f& o, const Eigen::Vector3f& d,

@@ -72,6 +72,10 @@ class RayCaster {
   virtual void setThreads(int threads) = 0;
   virtual int threads() const = 0;
 
+  // Bytes this representation of the map holds (structure, tables, the copies it keeps): what a
+  // backend costs in memory, as `bench maps` reports it.
+  virtual size_t memoryBytes() const = 0;
+
   CastOptions options;
 };
 

@@ -38,8 +38,9 @@ struct MeshObject {
   }
 };
 
-// The objects made of triangles with this label.
-std::vector<MeshObject> findObjects(const Mesh& mesh, const std::string& label);
+// The objects made of triangles with this label: solids (triangles sharing vertices), joined
+// into one object when their bounding boxes touch unless `join_touching` is false.
+std::vector<MeshObject> findObjects(const Mesh& mesh, const std::string& label, bool join_touching = true);
 
 // The mesh with the chairs moved (explicit moves first, then random ones to every chair).
 // Throws std::runtime_error naming the move's position in the scenario when no chair is near

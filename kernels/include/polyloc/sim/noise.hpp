@@ -7,9 +7,13 @@
 //   max-range reading, `max_range` among the rest       -> range_max (no echo reported as max)
 //   ToF: amplitude below `amplitude_min`                -> NaN
 //   reflection outlier on a specular label (`reflection_outlier`): range * U(reflection_min, max)
-//   ToF flying pixel at a depth discontinuity (`flying_pixel`): depth mixed between fore- and
-//     background
-//   Gaussian noise: sigma(r) = max(sigma + sigma_slope * r, sigma_rel * r), plus `bias`
+//   flying (ToF) or mixed (laser) pixel at a depth discontinuity (`flying_pixel`): range mixed
+//     between fore- and background (neighbours: the 4 pixels of a camera, beams b-1 and b+1 of
+//     a scanner)
+//   Gaussian noise: sigma(r) = max(sigma + sigma_slope * r, sigma_rel * r), plus `bias`, plus
+//     the beam's own bias (`beam_bias`: drawn once per beam, the same in every frame)
+// Before tracing, `angle_jitter` turns each beam of each frame about the sensor's z axis: the
+// range is measured along another direction than the one the scan reports.
 #pragma once
 
 #include <polyloc/sensors/sensor.hpp>
@@ -44,6 +48,8 @@ struct SensorNoise {
   double sigma_slope = 0.0;   // m per m of range, added to sigma
   double sigma_rel = 0.0;     // fraction of range, a floor: sigma(r) >= sigma_rel * r
   double bias = 0.0;          // m, added to every range
+  double beam_bias = 0.0;     // m, 1-sigma of a per-beam range offset, fixed over frames
+  double angle_jitter = 0.0;  // rad, 1-sigma azimuth error per beam and frame
   double dropout = 0.0;       // probability a return is lost
   double max_range = 0.0;     // probability of a spurious max-range reading
   std::optional<GlassMode> glass;  // overrides the scenario's glass mode for this sensor
@@ -51,9 +57,9 @@ struct SensorNoise {
   double reflection_outlier = 0.0;
   double reflection_min = 0.2, reflection_max = 0.8;  // fraction of the true range
   std::vector<std::string> specular_labels{"glass", "cabinet", "door"};
+  double flying_pixel = 0.0;      // probability a discontinuity pixel/beam gets a mixed range
+  double flying_threshold = 0.2;  // m, range (ToF: depth) step to a neighbour that makes a discontinuity
   // ToF only.
-  double flying_pixel = 0.0;      // probability a discontinuity pixel gets a mixed depth
-  double flying_threshold = 0.2;  // m, depth step to a 4-neighbour that makes a discontinuity
   double amplitude_scale = 1000;  // amplitude of a white surface (reflectivity 1) at 1 m, head on
   double amplitude_noise = 0.02;  // relative 1-sigma noise of the amplitude
   double amplitude_min = 0.0;     // pixels with a lower amplitude are invalid (NaN); 0 = off

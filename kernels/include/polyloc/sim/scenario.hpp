@@ -10,6 +10,7 @@
 #include <polyloc/sim/noise.hpp>
 #include <polyloc/sim/people.hpp>
 #include <polyloc/sim/trajectory.hpp>
+#include <polyloc/sim/world.hpp>
 
 #include <cstdint>
 #include <string>
@@ -40,12 +41,15 @@ struct Scenario {
   FloorSpec floor;
   std::vector<PersonSpec> people;
   ChairMoves chairs;
+  WorldSpec world;         // what the sensors see where it differs from the map
   NoiseSettings noise;
   OdometrySettings odometry;
   std::string map_frame = "map", odom_frame = "odom", base_frame = "base_link";
 };
 
 // Throws ConfigError naming file, line and key (of the scenario or of the config it refers to).
+// `base: other.yaml` starts from that scenario; each top-level section given here replaces the
+// base's section as a whole.
 Scenario loadScenario(const std::string& path);
 
 // Noise for every sensor of the rig: defaults of its preset.

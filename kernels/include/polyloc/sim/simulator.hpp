@@ -64,19 +64,24 @@ struct SimSummary {
   std::map<std::string, uint64_t> topics;  // messages per topic
   uint64_t floor_misses = 0;               // contact probes that found no floor
   size_t chairs_moved = 0;
+  WorldChanges world;                      // where the world differs from the map (world.hpp)
 };
 
 class Simulator {
  public:
-  // `map` as loaded (loadScenarioMap); chairs are moved here. Throws std::invalid_argument or
-  // std::runtime_error for scenarios that cannot run (no waypoints, a chair move finds no chair).
+  // `map` as loaded (loadScenarioMap): the world is built from it (or from the scenario's own
+  // world mesh) with chairs moved and the world's changes (world.hpp). Throws
+  // std::invalid_argument or std::runtime_error for scenarios that cannot run (no waypoints, a
+  // chair move or removal that finds nothing, clutter that finds no floor).
   Simulator(Scenario scenario, Mesh map);
   ~Simulator();
   Simulator(const Simulator&) = delete;
   Simulator& operator=(const Simulator&) = delete;
 
   const Scenario& scenario() const { return scenario_; }
-  const Mesh& map() const { return map_; }  // with chairs moved, and the label "person"
+  // What the sensors see: the map with chairs moved and the world's changes, label "person" added.
+  const Mesh& world() const { return world_; }
+  const WorldChanges& worldChanges() const { return world_changes_; }
   uint32_t personLabel() const { return person_label_; }
   const RayCaster& caster() const;
   const Trajectory& trajectory() const { return *trajectory_; }
@@ -90,7 +95,8 @@ class Simulator {
 
  private:
   Scenario scenario_;
-  Mesh map_;
+  Mesh world_;
+  WorldChanges world_changes_;
   uint32_t person_label_ = 0;
   std::unique_ptr<RayCaster> caster_;
   std::unique_ptr<Trajectory> trajectory_;

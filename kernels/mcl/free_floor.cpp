@@ -1,4 +1,4 @@
-#include <polyloc/mcl/global_init.hpp>
+#include <polyloc/mcl/free_floor.hpp>
 #include <polyloc/mcl/motion_model.hpp>
 
 #include <tbb/parallel_for.h>

@@ -1,0 +1,32 @@
+// Options that many commands take, declared in one place: one meaning, one check and one style
+// of help text per flag (--map is a mesh file that exists, --threads 0 means all cores, --seed
+// a non-negative integer, --height a height in metres of rays or sensors above z = 0).
+#pragma once
+
+#include "cli/parse_number.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace polyloc::cli {
+
+inline CLI::Option* addMapOption(CLI::App& c, std::string& map, const std::string& help = "Map file (OBJ, PLY, STL, glTF, DAE)") {
+  return c.add_option("--map", map, help)->check(CLI::ExistingFile);
+}
+
+template <class T>
+CLI::Option* addThreadsOption(CLI::App& c, T& threads, const std::string& help = "Worker threads (0 = all cores)") {
+  return c.add_option("--threads", threads, help)->capture_default_str()->check(finiteRange(0, 4096));
+}
+
+template <class T>
+CLI::Option* addSeedOption(CLI::App& c, T& seed, const std::string& help) {
+  return c.add_option("--seed", seed, help)->check(finiteRange(0, 1.8e19));
+}
+
+inline CLI::Option* addHeightOption(CLI::App& c, double& height, const std::string& help) {
+  return c.add_option("--height", height, help)->capture_default_str()->check(finiteRange(-1e4, 1e4));
+}
+
+}  // namespace polyloc::cli
