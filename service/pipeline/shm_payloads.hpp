@@ -1,4 +1,4 @@
-// Kernel results as the payload structs of bindings/c/polyloc_shm.h, and back (odometry).
+// Kernel results as the payload structs of service/shm/include/polyloc_shm.h, and back (odometry).
 #pragma once
 
 #include <polyloc_shm.h>

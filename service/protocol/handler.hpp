@@ -23,7 +23,7 @@
 
 namespace polyloc::protocol {
 
-// Same values as POLYLOC_POSE_* in bindings/c/polyloc_shm.h.
+// Same values as POLYLOC_POSE_* in service/shm/include/polyloc_shm.h.
 enum class PoseStatus : uint32_t { Initialising = 0, Tracking = 1, Uncertain = 2, Lost = 3 };
 
 struct PoseReport {

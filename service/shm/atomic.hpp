@@ -1,5 +1,5 @@
 // Atomic access to fields of the shared segment. The fields are plain integers in C structs
-// (bindings/c/polyloc_shm.h) shared between processes, so they are accessed with the __atomic
+// (service/shm/include/polyloc_shm.h) shared between processes, so they are accessed with the __atomic
 // builtins (naturally aligned, lock-free) rather than std::atomic members: the C layout stays
 // the definition. Every access to a word that another process writes goes through here.
 #pragma once

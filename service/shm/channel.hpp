@@ -1,4 +1,4 @@
-// Writing and reading one channel of a segment (seqlock slots, see bindings/c/polyloc_shm.h).
+// Writing and reading one channel of a segment (seqlock slots, see service/shm/include/polyloc_shm.h).
 // A writer never waits for readers; any number of readers read in place at their own speed.
 //
 //   shm::Writer w(seg, seg.find("scan/front"));          // claims the writer role

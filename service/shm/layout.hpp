@@ -1,4 +1,4 @@
-// Sizes and offsets of the segment layout (bindings/c/polyloc_shm.h). The static_asserts pin
+// Sizes and offsets of the segment layout (service/shm/include/polyloc_shm.h). The static_asserts pin
 // every struct to the byte offsets docs/interface.md documents: changing one is an ABI change
 // (bump POLYLOC_SHM_ABI_VERSION and the spec), never an accident.
 #pragma once

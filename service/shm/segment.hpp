@@ -1,4 +1,4 @@
-// One polylocd instance's shared-memory segment (bindings/c/polyloc_shm.h, docs/interface.md):
+// One polylocd instance's shared-memory segment (service/shm/include/polyloc_shm.h, docs/interface.md):
 // created by polylocd with its channel table, attached by clients by instance name.
 //
 //   auto seg = shm::Segment::create("lab", specs);   // polylocd; bumps the generation

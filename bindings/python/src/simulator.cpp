@@ -134,12 +134,12 @@ second first, then its frames); `polyloc.simulate` collects both into one time-o
              p->sim = std::make_unique<Simulator>(s, loadScenarioMap(s));
              return p;
            }),
-           pb::arg("scenario"), "Loads the scenario's map and moves its chairs.")
+           pb::arg("scenario"), "Loads the scenario's map and builds its world (chairs moved, world changes).")
       .def_property_readonly("duration", [](const PySimulator& s) { return s.sim->duration(); }, "s")
       .def_property_readonly("scenario", [](const PySimulator& s) { return s.sim->scenario(); })
       .def_property_readonly("rig", [](const PySimulator& s) { return s.sim->scenario().config.rig; })
-      .def_property_readonly("map", [](const PySimulator& s) { return std::make_shared<Mesh>(s.sim->map()); },
-                             "the map as simulated (chairs moved, label 'person'), a copy")
+      .def_property_readonly("world", [](const PySimulator& s) { return std::make_shared<Mesh>(s.sim->world()); },
+                             "what the sensors see: the map with chairs moved and the scenario's world changes, label 'person'; a copy")
       .def("ground_truth", [](const PySimulator& s, double t) { return s.sim->groundTruth(t); }, pb::arg("t"),
            "map_T_base at t seconds")
       .def("run", &runSimulation, pb::arg("out") = "", pb::arg("on_frame") = pb::none(), pb::arg("on_tick") = pb::none(),

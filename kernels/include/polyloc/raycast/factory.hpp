@@ -18,7 +18,7 @@ struct CasterOptions {
   double height = 0.3;       // m: slice height of grid2d
 };
 
-// "embree", "grid2d", "distance3d", "octomap" (and "bsp" once it is built).
+// "embree", "bsp", "grid2d", "distance3d", "octomap": every backend makeCaster builds.
 const std::vector<std::string>& casterNames();
 
 // Throws std::invalid_argument for an unknown name (listing the known ones) and whatever the
