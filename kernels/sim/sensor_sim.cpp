@@ -50,7 +50,8 @@ SensorSim::SensorSim(size_t index, const Sensor& sensor, const SensorNoise& nois
     const auto it = noise.reflectivity.find(name);
     reflectivity_[i] = static_cast<float>(it != noise.reflectivity.end() ? it->second : defaultReflectivity(name));
   }
-  if (const auto* cam = std::get_if<DepthCameraSpec>(&sensor.spec)) depth_factor_ = cam->depthFactors();
+  if (const auto* cam = std::get_if<DepthCameraSpec>(&sensor.spec))
+    depth_factor_ = cam->depthFactors(), image_w_ = cam->width, image_h_ = cam->height;
   optical_frame_ = sensor.name + "_optical";
   if (options.noise_enabled && noise.beam_bias > 0) {
     const CounterRng rng(options.seed);
@@ -249,8 +250,7 @@ void SensorSim::applyNoise(FrameJob& job) const {
 
 float SensorSim::edgeNeighbour(const SimFrame& f, size_t b, float* step) const {
   // Neighbours: the 4 pixels of a depth image (compared in depth), beams b-1 and b+1 of a scan.
-  int w = 0, h = 0;
-  if (const auto* cam = std::get_if<DepthCameraSpec>(&sensor_.spec)) w = cam->width, h = cam->height;
+  const int w = image_w_, h = image_h_;
   const auto value = [&](size_t i) { return w > 0 ? f.exact[i] * depth_factor_[i] : f.exact[i]; };
   const float v0 = value(b);
   float other = v0;

@@ -73,6 +73,7 @@ class SensorSim {
   std::vector<uint8_t> specular_;        // per label id
   std::vector<float> reflectivity_;      // per label id
   std::vector<float> depth_factor_;      // depth cameras: range -> depth
+  int image_w_ = 0, image_h_ = 0;        // depth cameras: image size (0: a scanner)
   std::vector<float> beam_bias_;         // per beam, fixed over the run (empty: none)
   std::string optical_frame_;
 };
