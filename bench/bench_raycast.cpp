@@ -8,7 +8,9 @@
 #include <polyloc/raycast/workload.hpp>
 
 #include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
 
+#include <cmath>
 #include <memory>
 
 namespace {
@@ -48,6 +50,50 @@ void BM_ScansIntersect1(benchmark::State& state) {
   setRate(state, w.range.size());
 }
 BENCHMARK(BM_ScansIntersect1)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// The floor the packets must beat: a plain loop straight on Embree, one thread, nothing but
+// rtcIntersect1 and the hit distance (no windows, no facing, no tie rule: embree.cpp), on a
+// scene built as EmbreeCaster builds its own.
+void BM_LeanIntersect1Loop(benchmark::State& state) {
+  Workload& w = workload();
+  RTCDevice device = rtcNewDevice(nullptr);
+  RTCScene scene = rtcNewScene(device);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), w.mesh.vertices.size()));
+  for (size_t i = 0; i < w.mesh.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) v[3 * i + k] = w.mesh.vertices[i][k];
+  auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                             3 * sizeof(uint32_t), w.mesh.triangles.size()));
+  for (size_t t = 0; t < w.mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) idx[3 * t + k] = w.mesh.triangles[t][k];
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+  rtcCommitScene(scene);
+  for (auto _ : state) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    for (size_t p = 0; p < w.poses.size(); ++p) {
+      const Eigen::Matrix3f R = w.poses[p].rotation().toRotationMatrix().cast<float>();
+      const Eigen::Vector3f o = w.poses[p].translation().cast<float>();
+      for (size_t b = 0; b < w.beams.size(); ++b) {
+        const Eigen::Vector3f d = R * Eigen::Vector3f(w.beams.dx[b], w.beams.dy[b], w.beams.dz[b]);
+        rh.ray = {o.x(), o.y(), o.z(), 0.f, d.x(), d.y(), d.z(), 0.f, w.beams.range_max, 0xFFFFFFFFu, 0, 0};
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &ctx, &rh);
+        w.range[p * w.beams.size() + b] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
+      }
+    }
+  }
+  rtcReleaseScene(scene);
+  rtcReleaseDevice(device);
+  setRate(state, w.range.size());
+}
+BENCHMARK(BM_LeanIntersect1Loop)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 // The beam model's use: each beam only looks +-0.5 m around an expected range.
 void BM_ScansWindowed(benchmark::State& state) {

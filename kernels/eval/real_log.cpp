@@ -1,5 +1,5 @@
 #include <polyloc/eval/real_log.hpp>
-#include <polyloc/sim/simulator.hpp>  // fromMsgPose
+#include <polyloc/io/message_pose.hpp>
 
 #include <fmt/core.h>
 

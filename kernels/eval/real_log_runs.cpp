@@ -1,4 +1,5 @@
 #include <polyloc/eval/real_log_runs.hpp>
+#include <polyloc/io/message_pose.hpp>
 #include <polyloc/geometry/random.hpp>
 #include <polyloc/io/restamp.hpp>
 #include <polyloc/sim/simulator.hpp>  // toMsgPose

@@ -1,5 +1,5 @@
 #include <polyloc/map/scan_mapper.hpp>
-#include <polyloc/vrs/grid_walk.hpp>
+#include <polyloc/map/grid_walk.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 #include <polyloc/mcl/free_floor.hpp>
-#include <polyloc/mcl/motion_model.hpp>
+#include <polyloc/mcl/particles.hpp>
 
 #include <tbb/parallel_for.h>
 

@@ -1,5 +1,5 @@
 #include <polyloc/mcl/hypotheses.hpp>
-#include <polyloc/mcl/motion_model.hpp>
+#include <polyloc/mcl/particles.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,7 @@
-// Composes the filter: motion model on accumulated odometry, beam model per scan, blocked
-// particles zeroed, ESS-triggered systematic resampling with KLD particle count and augmented-MCL
-// injection, dominant-cluster estimate.
+// Composes the filter: motion model on accumulated odometry (odometry_buffer.hpp), beam model per
+// scan, weighed in rounds (round.hpp), blocked particles zeroed, ESS-triggered systematic
+// resampling with KLD particle count and augmented-MCL injection, dominant-cluster estimate,
+// global phase and sensor resetting (reset_policy.hpp).
 #include <polyloc/geometry/domain.hpp>
 #include <polyloc/mcl/beam_model.hpp>
 #include <polyloc/mcl/sensor_model.hpp>
@@ -10,15 +11,18 @@
 #include <polyloc/mcl/hypotheses.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/motion_model.hpp>
+#include <polyloc/mcl/odometry_buffer.hpp>
+#include <polyloc/mcl/particles.hpp>
 #include <polyloc/mcl/refine.hpp>
 #include <polyloc/mcl/resample.hpp>
+#include <polyloc/mcl/reset_policy.hpp>
+#include <polyloc/mcl/round.hpp>
 #include <polyloc/mcl/scan_screen.hpp>
 #include <polyloc/mcl/weighing.hpp>
 
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <deque>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -34,11 +38,6 @@ constexpr uint64_t kRelocStream = 0x524C43ULL << 40;
 constexpr uint64_t kPlantStream = 0x504C54ULL << 40;
 constexpr uint64_t kFreshStream = 0x465253ULL << 40;
 constexpr uint64_t kScreenStream = 0x534352ULL << 40;
-constexpr int64_t kOdometryGapNs = 1'000'000'000;
-constexpr int64_t kOdomHistoryNs = 2'000'000'000;
-constexpr int64_t kExtrapolateNs = 100'000'000;
-constexpr int64_t kSilentNs = 1'000'000'000;  // a sensor not heard from for this long is not waited for  // odometry kept for interpolation to scan stamps
-
 }  // namespace
 
 const char* toString(MclStatus s) {
@@ -51,14 +50,10 @@ const char* toString(MclStatus s) {
   return "?";
 }
 
-Pose ParticleSet::pose(size_t i) const {
-  return Pose(Eigen::Quaterniond(qw[i], qx[i], qy[i], qz[i]), Eigen::Vector3d(x[i], y[i], z[i]));
-}
-
 struct Localizer::Impl {
   Impl(const RayCaster& exact, const Mesh& m, const Rig& r, const MclConfig& cfg, const RayCaster* weigh)
       : caster(weigh ? *weigh : exact), exact(exact), rig(r), config(cfg), floor(exact, m, config), rng(cfg.seed),
-        bounds(m.bounds()) {
+        bounds(m.bounds()), policy(config) {
     const RayCaster& c = caster;
     for (const auto& s : rig.sensors) beams.push_back(s.beams());
     const std::vector<uint8_t> weighed = weighedSensors(rig, config);
@@ -74,9 +69,9 @@ struct Localizer::Impl {
       if (it == models.end()) models.push_back(makeSensorModel(name, c, m, rig, config)), it = models.end() - 1;
       model_of.push_back(it->get());
     }
-    pending.assign(rig.size(), 0);
-    round_frames.resize(rig.size());
-    last_scan.assign(rig.size(), std::numeric_limits<int64_t>::min());
+    std::vector<uint8_t> awaited(rig.size());
+    for (size_t k = 0; k < rig.size(); ++k) awaited[k] = model_of[k] != nullptr;
+    round = UpdateRound(config, std::move(awaited));
     if (config.threads > 0) arena.emplace(config.threads);
     // Global localisation screens candidates with the level scanners' beams (scan_screen.hpp).
     bool level = false;
@@ -98,15 +93,11 @@ struct Localizer::Impl {
     sensor_fit.assign(rig.size(), -1.0);
     est.stamp_ns = stamp;
     est.particles = ps.size();
-    std::fill(pending.begin(), pending.end(), 0);
-    updated_once = false;
-    round_sensors = round_lost = round_collapsed = 0;
-    inject_due = 0;
-    rounds_since_reset = low_rounds = 0;
-    coarse_left = 0;
+    round.reset();
+    policy.reset();
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
-    odom_at_update = odom_at_predict = odom_at_round = scan_odom = odomAt(stamp);
+    odom_at_update = odom_at_predict = odom_at_round = scan_odom = odometry.at(stamp);
     initialised = true;
     if (config.dof == 3) floor.snapToFloor(ps);
     refreshEstimate(MclStatus::Initialising);
@@ -197,7 +188,7 @@ struct Localizer::Impl {
     if (config.dof == 3) floor.snapToFloor(ps);
     loglik.assign(ps.size(), 0.0);
     SensorModel& model = *model_of[sensor];
-    const bool coarse = est.status != MclStatus::Tracking || coarse_left > 0;
+    const bool coarse = est.status != MclStatus::Tracking || policy.coarse();
     const SensorFrame frame{sensor, stamp, ranges, scan_odom, step, coarse};
     const size_t used = model.weigh(ps, frame, loglik);
     if (used == 0) return false;
@@ -227,22 +218,18 @@ struct Localizer::Impl {
       counters.particles_blocked += b.zeroed;
       counters.blocked_ignored += b.ignored;
     }
-    if (!normalizeLogWeights(ps.logw)) ++counters.weights_collapsed, ++round_collapsed;
+    if (!normalizeLogWeights(ps.logw)) ++counters.weights_collapsed, ++round.collapsed;
     // No particle explains the scan better than the non-hit parts of the mixture.
-    round_lost += best < model.unexplainedLogLikelihood(sensor);
-    ++round_sensors;
+    round.lost += best < model.unexplainedLogLikelihood(sensor);
+    ++round.sensors;
     // Kept for the refinement, the global hypotheses and the fit check; raw ToF frames only when
     // asked (flying pixels and multipath bias a fit).
-    if (config.refine.depth_cameras || !std::holds_alternative<DepthCameraSpec>(rig.sensors[sensor].spec)) {
-      RoundFrame& f = round_frames[sensor];
-      f.ranges.assign(ranges.begin(), ranges.end());
-      f.odom = scan_odom;
-      f.valid = true;
-    }
-    inject_due = std::max(inject_due, injectProbability());
+    if (config.refine.depth_cameras || !std::holds_alternative<DepthCameraSpec>(rig.sensors[sensor].spec))
+      round.keep(sensor, ranges, scan_odom);
+    round.inject_due = std::max(round.inject_due, injectProbability());
     ++counters.updates;
     est.updates = counters.updates;
-    round_stamp = stamp;
+    round.stamp = stamp;
     return true;
   }
 
@@ -250,12 +237,10 @@ struct Localizer::Impl {
   // degenerated or injection is due (a lost cloud is flat, high ESS, and would never resample,
   // so it would never get fresh particles).
   void closeRound() {
-    if (round_sensors == 0) return;
+    if (round.sensors == 0) return;
     const uint64_t reloc_at_round = counters.relocalizations;
-    est.stamp_ns = round_stamp;  // the particles are at the odometry of the last frame weighed
-    const bool global_round = coarse_left > 0;  // one of the rounds right after a uniform prior
-    if (coarse_left > 0) --coarse_left;
-    if (global_round) ++global_rounds;
+    est.stamp_ns = round.stamp;  // the particles are at the odometry of the last frame weighed
+    const bool global_round = policy.beginRound();
     // Only right after a uniform prior: planting refined modes while tracking through a crowd
     // (uncertain, weighed coarse) moves a good cloud onto fits that people distort.
     ambiguous = false;
@@ -264,7 +249,7 @@ struct Localizer::Impl {
     est.ess = effectiveSampleSize(ps.logw);
     // Lost when most sensors of the round are explained by no particle (one sensor alone may be
     // blinded by a person standing in front of it).
-    const bool lost = round_collapsed > 0 || 2 * round_lost > round_sensors;
+    const bool lost = round.collapsed > 0 || 2 * round.lost > round.sensors;
     const MclEstimate before = est;
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
     if (best_hypothesis && est.status != MclStatus::Tracking) est.pose = *best_hypothesis;
@@ -272,63 +257,31 @@ struct Localizer::Impl {
     // over by injected particles.
     const Pose predicted = before.pose * (odom_at_round.inverse() * odom_at_predict);
     odom_at_round = odom_at_predict;
-    bool jumped = config.relocalize_jump > 0 && before.status == MclStatus::Tracking && !global_round &&
-                  (est.pose.translation() - predicted.translation()).head<2>().norm() > config.relocalize_jump;
+    bool jumped = policy.jumped(before.status == MclStatus::Tracking, global_round, est.pose, predicted);
     if (config.refine.enabled) refineEstimate();
     checkEstimateFit();
     jumped = jumped && est.contradicted;  // a jump to a place the scans fit is the filter doing its job
-    // The global phase ends on a confirmed estimate only: refined against the mesh, not
-    // contradicted by the fit check, and the only place the refined modes found. Committing after
-    // a fixed number of rounds handed buildings of similar rooms, and corridors seen both ways,
-    // to the first place that fitted a little better (real logs).
-    if (global_round && coarse_left == 0 && (est.contradicted || !est.refined || ambiguous) &&
-        global_rounds < config.global_max_coarse_rounds)
-      coarse_left = 1;
-    // Sensor resetting: for relocalize_rounds rounds in a row the scans have contradicted the
-    // estimate (beams seen through the map's walls: fit_check.hpp), the filter tracks a wrong
-    // place (kidnapped, or diverged). Injection alone draws too few particles near the truth in
-    // a building-sized map; a fresh uniform prior does not. The likelihood level alone does not
-    // decide: it drops with map error, people and clutter while the track is fine (real logs,
-    // docs/benchmarks.md), and a round whose estimate the scans pin against the mesh (refine
-    // accepted) is not lost either.
-    // A round counts only when the refinement could not pin the estimate either: at the right
-    // place a quarter of the beams may see through for minutes on end where the map holds a door
-    // that is open now (a map made over a long run: freiburg-079), and the scans still fit it.
-    const bool low = est.contradicted && !est.refined;
-    low_rounds = low ? low_rounds + 1 : 0;
-    ++rounds_since_reset;
-    if (jumped || (config.relocalize_rounds > 0 && low_rounds >= config.relocalize_rounds &&
-                   rounds_since_reset > 2 * config.relocalize_rounds)) {
+    policy.extendGlobal(global_round, est.contradicted, est.refined, ambiguous);
+    if (policy.relocalize(jumped, est.contradicted, est.refined)) {
       drawUniform(kRelocStream + step);
-      coarse_left = config.global_coarse_rounds;
-      global_rounds = 0;
+      policy.startGlobal();
       w_fast = w_slow;  // no injection into the fresh prior until tracking weighs again
       ++counters.relocalizations;
-      rounds_since_reset = low_rounds = 0;
       refreshEstimate(MclStatus::Lost);
-    } else if (planted || est.ess < config.resample_ess * double(ps.size()) || (est.contradicted && inject_due > 0.05)) {
+    } else if (planted || est.ess < config.resample_ess * double(ps.size()) || (est.contradicted && round.inject_due > 0.05)) {
       resample();
     }
     // Global localisation: fresh uniform particles each coarse round, so that places the prior
     // missed can still become modes (and be refined) while the robot moves.
-    if (global_round && coarse_left > 0 && config.hypotheses.count > 0 && config.hypotheses.fresh > 0 &&
+    if (global_round && policy.coarse() && config.hypotheses.count > 0 && config.hypotheses.fresh > 0 &&
         counters.relocalizations == reloc_at_round)
       addFresh();
     est.particles = ps.size();
-    round_sensors = round_lost = round_collapsed = 0;
-    inject_due = 0;
-    for (RoundFrame& f : round_frames) f.valid = false;  // the data stays until the next round overwrites it
+    round.clear();
   }
 
-  // The round's scanner frames, as refinePose takes them: relative to the odometry of the last
-  // weighed frame (the particles' time).
-  std::vector<RefineScan> roundScans() const {
-    const Pose& ref = odom_at_predict;
-    std::vector<RefineScan> scans;
-    for (size_t k = 0; k < round_frames.size(); ++k)
-      if (round_frames[k].valid) scans.push_back(RefineScan{k, round_frames[k].ranges, ref.inverse() * round_frames[k].odom});
-    return scans;
-  }
+  // The round's frames, relative to the odometry of the last weighed frame (the particles' time).
+  std::vector<RefineScan> roundScans() const { return round.scans(odom_at_predict); }
 
   // Global localisation (hypotheses.hpp): the cloud's best distinct modes refined against the
   // round's frames; those that fit are planted back as tight clouds. True when any was planted.
@@ -421,13 +374,6 @@ struct Localizer::Impl {
     ++counters.refinements;
   }
 
-  struct RoundFrame {
-    std::vector<float> ranges;
-    Pose odom;
-    bool valid = false;
-  };
-  std::vector<RoundFrame> round_frames;  // per rig sensor: its frame of the open round (refine)
-
   const RayCaster& caster;  // the sensor models' and the refinement's (mcl.caster)
   const RayCaster& exact;   // the mesh itself (Embree): floor, free space, the fit check
   Rig rig;
@@ -439,49 +385,22 @@ struct Localizer::Impl {
   Eigen::AlignedBox3f bounds;  // the map's: poses beyond it plus domain::kMapMargin are refused
   std::vector<BeamSet> beams;
   std::vector<std::unique_ptr<SensorModel>> models;
-  std::vector<SensorModel*> model_of;
-  std::vector<double> loglik;          // per particle, reused between updates  // per rig sensor; null: its frames are not used
+  std::vector<SensorModel*> model_of;  // per rig sensor; null: its frames are not used
+  std::vector<double> loglik;          // per particle, reused between updates
   std::optional<tbb::task_arena> arena;
   ParticleSet ps;
   MclCounters counters;
   MclEstimate est;
-  bool initialised = false, updated_once = false, have_odom = false;
-  int64_t last_odom_t = 0;
-  Pose last_odom, odom_at_predict, odom_at_update;
+  bool initialised = false;
+  OdometryBuffer odometry;
+  Pose odom_at_predict, odom_at_update;
   Pose odom_at_round;  // odometry at the last round's estimate (relocalize_jump)
   Pose scan_odom;  // odometry interpolated to the stamp of the scan being weighed
-  std::deque<std::pair<int64_t, Pose>> odom_history;  // the last kOdomHistoryNs of odometry
-
-  // Odometry at time t: scans and odometry come at different rates, and a scanner at 12.5 Hz
-  // lags 50 Hz odometry by up to 20 ms, a degree at 0.8 rad/s. A scan newer than the last
-  // odometry (it arrived first) gets the last motion extrapolated, for at most kExtrapolateNs.
-  Pose odomAt(int64_t t) const {
-    if (odom_history.size() >= 2 && t > odom_history.back().first) {
-      const auto& [t1, p1] = odom_history.back();
-      const auto& [t0, p0] = odom_history[odom_history.size() - 2];
-      if (t - t1 > kExtrapolateNs || t1 <= t0) return last_odom;
-      return Pose::interpolate(p0, p1, 1.0 + double(t - t1) / double(t1 - t0));
-    }
-    if (odom_history.empty() || t >= odom_history.back().first) return last_odom;
-    if (t <= odom_history.front().first) return odom_history.front().second;
-    auto hi = std::lower_bound(odom_history.begin(), odom_history.end(), t,
-                               [](const auto& e, int64_t v) { return e.first < v; });
-    auto lo = hi - 1;
-    const double s = double(t - lo->first) / double(hi->first - lo->first);
-    return Pose::interpolate(lo->second, hi->second, s);
-  }
-  std::vector<uint8_t> pending;
-  std::vector<int64_t> last_scan;
+  UpdateRound round;
+  ResetPolicy policy;
   uint64_t step = 0;
   std::vector<double> w_slow, w_fast;  // augmented MCL likelihood averages, per rig sensor
   size_t current = 0;                  // sensor of the last update
-  // The open round: sensors weighed, of them lost, collapsed weightings, largest injection due.
-  size_t round_sensors = 0, round_lost = 0, round_collapsed = 0;
-  double inject_due = 0;
-  int64_t round_start = 0, round_stamp = 0;
-  size_t low_rounds = 0, rounds_since_reset = 0;  // sensor resetting (relocalize_rounds)
-  size_t coarse_left = 0;  // rounds still weighed coarse after a uniform prior
-  size_t global_rounds = 0;  // coarse rounds since the last uniform prior
   bool ambiguous = false;    // the round's refined modes (global localisation) found several places
   std::optional<Pose> best_hypothesis;  // the best tracked place of this global round
   std::vector<TrackedPlace> tracked;  // places of the global rounds since the last uniform prior
@@ -540,68 +459,50 @@ void Localizer::initGlobal(int64_t stamp) {
   d.run([&] {
     d.drawUniform(kInitStream + uint64_t(stamp));
     d.reset(stamp);
-    d.coarse_left = d.config.global_coarse_rounds;
-    d.global_rounds = 0;
+    d.policy.startGlobal();
   });
 }
 
 void Localizer::addOdometry(int64_t stamp, const Pose& odom_T_base) {
   Impl& d = *impl_;
   ++d.counters.odometry;
-  if (domain::checkPose(odom_T_base)) return void(++d.counters.odometry_invalid);
-  if (d.have_odom && stamp < d.last_odom_t) return void(++d.counters.odometry_out_of_order);
-  if (!d.have_odom) {
-    // The first message is the reference: no motion before it.
-    d.have_odom = true;
-    d.odom_at_predict = d.odom_at_update = odom_T_base;
-  } else if (stamp - d.last_odom_t > kOdometryGapNs) {
-    ++d.counters.odometry_gaps;  // still used: the delta spans the gap
+  switch (d.odometry.add(stamp, odom_T_base)) {
+    case OdometryBuffer::Added::Invalid: ++d.counters.odometry_invalid; break;
+    case OdometryBuffer::Added::OutOfOrder: ++d.counters.odometry_out_of_order; break;
+    case OdometryBuffer::Added::First:
+      // The first message is the reference: no motion before it.
+      d.odom_at_predict = d.odom_at_update = odom_T_base;
+      break;
+    case OdometryBuffer::Added::AfterGap: ++d.counters.odometry_gaps; break;  // still used: the delta spans the gap
+    case OdometryBuffer::Added::Accepted: break;
   }
-  d.last_odom_t = stamp;
-  d.last_odom = odom_T_base;
-  d.odom_history.emplace_back(stamp, odom_T_base);
-  while (d.odom_history.size() > 2 && stamp - d.odom_history.front().first > kOdomHistoryNs)
-    d.odom_history.pop_front();
 }
 
 bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ranges) {
   Impl& d = *impl_;
   ++d.counters.scans;
   if (!d.initialised || sensor >= d.rig.size() || ranges.size() != d.beams[sensor].size() ||
-      stamp < d.last_scan[sensor] || d.ps.size() == 0)
+      d.round.stale(sensor, stamp) || d.ps.size() == 0)
     return ++d.counters.scans_rejected, false;
   if (BeamSensorModel::selectBeams(d.beams[sensor], ranges, 1).empty()) return ++d.counters.scans_rejected, false;
   if (!d.model_of[sensor]) return false;  // not weighed: depth_model none, or not in mcl.sensors
-  d.last_scan[sensor] = stamp;
-  // A round starts after enough motion (or with the first scan); every sensor then contributes
-  // its next frame. Motion during an open round does not restart it (a turn in place would then
-  // close every round after one or two sensors, and resample on their evidence alone); a round
-  // still open after round_timeout (a sensor dropped out) is closed with what it has.
-  d.scan_odom = d.odomAt(stamp);
+  d.round.heard(sensor, stamp);
+  d.scan_odom = d.odometry.at(stamp);
   bool closed = false;
-  bool open = std::count(d.pending.begin(), d.pending.end(), uint8_t{1}) > 0;
-  if (open && stamp - d.round_start > int64_t(d.config.round_timeout * 1e9)) {
+  if (d.round.timedOut(stamp)) {
     d.run([&] { d.closeRound(); });
-    closed = true, open = false;
-    std::fill(d.pending.begin(), d.pending.end(), 0);
+    closed = true;
+    d.round.abandon();
   }
   const Pose moved = d.odom_at_update.inverse() * d.scan_odom;
-  const double turned = std::abs(Eigen::AngleAxisd(moved.rotation()).angle());
-  if (!open && (!d.updated_once || moved.translation().norm() >= d.config.update_min_distance ||
-                turned >= d.config.update_min_angle)) {
-    // Waits for the sensors heard from lately: one that is silent (dropped out, or not recorded)
-    // would hold every round open until round_timeout.
-    for (size_t k = 0; k < d.pending.size(); ++k)
-      d.pending[k] = d.model_of[k] != nullptr && (k == sensor || d.last_scan[k] > stamp - kSilentNs);
+  if (d.round.due(moved)) {
+    d.round.start(sensor, stamp);
     d.odom_at_update = d.scan_odom;
-    d.round_start = stamp;
-    d.updated_once = true;
   }
-  if (!d.pending[sensor]) return closed;
-  d.pending[sensor] = 0;
+  if (!d.round.take(sensor)) return closed;
   d.run([&] {
     d.update(sensor, stamp, ranges);
-    if (std::count(d.pending.begin(), d.pending.end(), uint8_t{1}) == 0) d.closeRound(), closed = true;
+    if (d.round.complete()) d.closeRound(), closed = true;
   });
   return closed;
 }

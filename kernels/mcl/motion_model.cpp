@@ -47,16 +47,6 @@ Pose sampleMotion(const Pose& particle, const Pose& delta, const MotionNoise& n,
   return particle * Pose::fromXYZRPY(nx, ny, nz, nroll, npitch, nyaw);
 }
 
-void setParticle(ParticleSet& s, size_t i, const Pose& p) {
-  s.x[i] = p.x(), s.y[i] = p.y(), s.z[i] = p.z();
-  const auto& q = p.rotation();
-  s.qw[i] = q.w(), s.qx[i] = q.x(), s.qy[i] = q.y(), s.qz[i] = q.z();
-}
-
-void resizeParticles(ParticleSet& s, size_t n) {
-  for (auto* v : {&s.x, &s.y, &s.z, &s.qw, &s.qx, &s.qy, &s.qz, &s.logw}) v->resize(n);
-}
-
 void applyMotion(ParticleSet& s, const Pose& delta, const MotionNoise& noise, int dof,
                  const CounterRng& rng, uint64_t step) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, s.size(), 256), [&](const tbb::blocked_range<size_t>& r) {

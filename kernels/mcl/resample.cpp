@@ -1,4 +1,3 @@
-#include <polyloc/mcl/motion_model.hpp>
 #include <polyloc/mcl/resample.hpp>
 
 #include <algorithm>
@@ -69,19 +68,6 @@ size_t occupiedBins(const ParticleSet& s, const std::vector<size_t>& idx, const 
     bins.insert(uint64_t(bx) << 43 | uint64_t(by) << 22 | uint64_t(bt));
   }
   return bins.size();
-}
-
-ParticleSet gatherParticles(const ParticleSet& s, const std::vector<size_t>& idx) {
-  ParticleSet o;
-  resizeParticles(o, idx.size());
-  const double lw = idx.empty() ? 0.0 : -std::log(double(idx.size()));
-  for (size_t j = 0; j < idx.size(); ++j) {
-    const size_t i = idx[j];
-    o.x[j] = s.x[i], o.y[j] = s.y[i], o.z[j] = s.z[i];
-    o.qw[j] = s.qw[i], o.qx[j] = s.qx[i], o.qy[j] = s.qy[i], o.qz[j] = s.qz[i];
-    o.logw[j] = lw;
-  }
-  return o;
 }
 
 }  // namespace polyloc

@@ -55,6 +55,55 @@ unsigned primOf(const Hit& hit, int k) {
   return hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID : hit.primID[k];
 }
 
+// Ties. Touching closed solids (a cabinet against a wall, walls meeting at a corner) share faces.
+// A ray from inside one (a particle inside furniture, a random pose in a wall) meets its exit
+// face and the neighbour's entry face at the same distance, and Embree keeps whichever its
+// traversal met last: packets and single rays then disagree (0 m or the neighbour's face). This
+// filter makes the answer independent of the order: at one distance a back face wins (the origin
+// is inside a solid: backface_is_solid gives the window start, as for any ray from inside), and
+// among faces of one kind the lower triangle index. Lanes are told apart by ray id.
+struct TieContext {
+  RTCIntersectContext ctx;  // first member: Embree passes &ctx to the filter
+  const float *nx, *ny, *nz;
+  float t[kPacket];
+  unsigned prim[kPacket];
+
+  TieContext(const float* x, const float* y, const float* z, RTCIntersectContextFlags flags);
+  void reset() { std::fill(std::begin(t), std::end(t), kInf); }
+  bool back(unsigned p, RTCRayN* ray, unsigned N, unsigned i) const {
+    return nx[p] * RTCRayN_dir_x(ray, N, i) + ny[p] * RTCRayN_dir_y(ray, N, i) + nz[p] * RTCRayN_dir_z(ray, N, i) > 0.f;
+  }
+};
+
+// Called for every candidate hit, so the usual case (nearer than the kept one) only records it;
+// facing is looked at on ties alone.
+void tieFilter(const RTCFilterFunctionNArguments* args) {
+  auto* c = reinterpret_cast<TieContext*>(args->context);
+  const unsigned N = args->N;
+  for (unsigned i = 0; i < N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned lane = RTCRayN_id(args->ray, N, i) % kPacket;
+    const float t = RTCRayN_tfar(args->ray, N, i);  // the candidate's distance
+    const unsigned prim = RTCHitN_primID(args->hit, N, i);
+    if (t == c->t[lane]) {
+      const bool back = c->back(prim, args->ray, N, i), kept_back = c->back(c->prim[lane], args->ray, N, i);
+      if (back != kept_back ? !back : prim > c->prim[lane]) {
+        args->valid[i] = 0;
+        continue;
+      }
+    }
+    c->t[lane] = t, c->prim[lane] = prim;
+  }
+}
+
+TieContext::TieContext(const float* x, const float* y, const float* z, RTCIntersectContextFlags flags)
+    : nx(x), ny(y), nz(z) {
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = flags;
+  ctx.filter = tieFilter;
+  reset();
+}
+
 }  // namespace
 
 struct EmbreeCaster::Impl {
@@ -102,7 +151,8 @@ EmbreeCaster::EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options) : imp
       },
       &m.device_bytes);
   m.scene = rtcNewScene(m.device);
-  rtcSetSceneFlags(m.scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  rtcSetSceneFlags(m.scene, RTCSceneFlags((options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+                                          RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));  // tieFilter
   rtcSetSceneBuildQuality(m.scene, options.high_quality_bvh ? RTC_BUILD_QUALITY_HIGH
                                                             : RTC_BUILD_QUALITY_MEDIUM);
   RTCGeometry geom = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -164,9 +214,8 @@ void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
   if (nb == 0 || poses.empty()) return;
   const CastOptions opt = options;
   m.pool.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // the beams of one pose share an origin
+    // The beams of one pose share an origin: coherent.
+    TieContext tie(m.nx.data(), m.ny.data(), m.nz.data(), RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
     alignas(64) RTCRayHit16 rh;
     alignas(64) int valid[kPacket];
     float t0[kPacket], t1[kPacket];  // windows, kept because Embree overwrites tfar
@@ -188,7 +237,7 @@ void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
           rh.ray.tfar[k] = window.tmax ? std::min(beams.range_max, window.tmax[b]) : beams.range_max;
           rh.ray.time[k] = 0.f;
           rh.ray.mask[k] = 0xFFFFFFFFu;
-          rh.ray.id[k] = 0;
+          rh.ray.id[k] = unsigned(k);
           rh.ray.flags[k] = 0;
           rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
           // An empty window sees nothing: its lane stays off and reports a miss.
@@ -197,7 +246,8 @@ void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
           t0[k] = rh.ray.tnear[k];
           t1[k] = rh.ray.tfar[k];
         }
-        rtcIntersect16(valid, m.scene, &ctx, &rh);
+        tie.reset();
+        rtcIntersect16(valid, m.scene, &tie.ctx, &rh);
         for (int k = 0; k < n; ++k)
           m.finish(out, p * nb + b0 + k, rh.ray.tfar[k], primOf(rh.hit, k), rh.ray.dir_x[k],
                    rh.ray.dir_y[k], rh.ray.dir_z[k], t0[k], t1[k], opt);
@@ -213,8 +263,7 @@ void EmbreeCaster::castScansSingle(std::span<const Pose> poses, const BeamSet& b
   const CastOptions opt = options;
   const HitBuffers out{range};
   m.pool.parallel(poses.size(), 4, [&](size_t p0, size_t p1) {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    TieContext tie(m.nx.data(), m.ny.data(), m.nz.data(), RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
     RTCRayHit rh;
     for (size_t p = p0; p < p1; ++p) {
       const Eigen::Matrix3f R = poses[p].rotation().toRotationMatrix().cast<float>();
@@ -224,8 +273,10 @@ void EmbreeCaster::castScansSingle(std::span<const Pose> poses, const BeamSet& b
         rh.ray = {o.x(), o.y(), o.z(), beams.range_min, d.x(), d.y(), d.z(), 0.f,
                   beams.range_max, 0xFFFFFFFFu, 0, 0};
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        if (rayOk(o.x(), o.y(), o.z(), d.x(), d.y(), d.z(), beams.range_min, beams.range_max))
-          rtcIntersect1(m.scene, &ctx, &rh);
+        if (rayOk(o.x(), o.y(), o.z(), d.x(), d.y(), d.z(), beams.range_min, beams.range_max)) {
+          tie.t[0] = kInf;
+          rtcIntersect1(m.scene, &tie.ctx, &rh);
+        }
         const unsigned prim = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID
                                                                        : rh.hit.primID;
         m.finish(out, p * nb + b, rh.ray.tfar, prim, d.x(), d.y(), d.z(), beams.range_min,
@@ -240,8 +291,7 @@ void EmbreeCaster::castRays(const RayBatch& rays, const HitBuffers& out) const {
   const CastOptions opt = options;
   const size_t npk = (rays.count + kPacket - 1) / kPacket;
   m.pool.parallel(npk, 64, [&](size_t q0, size_t q1) {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    TieContext tie(m.nx.data(), m.ny.data(), m.nz.data(), RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
     alignas(64) RTCRayHit16 rh;
     alignas(64) int valid[kPacket];
     float t0[kPacket], t1[kPacket];
@@ -260,14 +310,15 @@ void EmbreeCaster::castRays(const RayBatch& rays, const HitBuffers& out) const {
         rh.ray.tfar[k] = t1[k] = rays.tmax ? rays.tmax[i] : kInf;
         rh.ray.time[k] = 0.f;
         rh.ray.mask[k] = 0xFFFFFFFFu;
-        rh.ray.id[k] = 0;
+        rh.ray.id[k] = unsigned(k);
         rh.ray.flags[k] = 0;
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         valid[k] = k < n && rayOk(rays.ox[i], rays.oy[i], rays.oz[i], rays.dx[i], rays.dy[i], rays.dz[i],
                                   t0[k], t1[k])
                        ? -1 : 0;
       }
-      rtcIntersect16(valid, m.scene, &ctx, &rh);
+      tie.reset();
+      rtcIntersect16(valid, m.scene, &tie.ctx, &rh);
       for (int k = 0; k < n; ++k)
         m.finish(out, i0 + k, rh.ray.tfar[k], primOf(rh.hit, k), rh.ray.dir_x[k],
                  rh.ray.dir_y[k], rh.ray.dir_z[k], t0[k], t1[k], opt);

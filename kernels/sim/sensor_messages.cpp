@@ -1,33 +1,13 @@
 // The ROS 2 messages of one simulated sensor frame (see sensor_sim.hpp and simulator.hpp).
 #include "sensor_sim.hpp"
 
+#include <polyloc/io/message_pose.hpp>
 #include <polyloc/geometry/random.hpp>
 
 #include <cmath>
 #include <cstring>
 
 namespace polyloc {
-
-msg::Pose toMsgPose(const Pose& p) {
-  msg::Pose m;
-  m.position = {p.x(), p.y(), p.z()};
-  const Eigen::Quaterniond& q = p.rotation();
-  m.orientation = {q.x(), q.y(), q.z(), q.w()};
-  return m;
-}
-
-Pose fromMsgPose(const msg::Pose& m) {
-  const auto& q = m.orientation;
-  return Pose(Eigen::Quaterniond(q.w, q.x, q.y, q.z), Eigen::Vector3d(m.position.x, m.position.y, m.position.z));
-}
-
-msg::Transform toMsgTransform(const Pose& p) {
-  msg::Transform t;
-  t.translation = {p.x(), p.y(), p.z()};
-  const Eigen::Quaterniond& q = p.rotation();
-  t.rotation = {q.x(), q.y(), q.z(), q.w()};
-  return t;
-}
 
 namespace detail {
 

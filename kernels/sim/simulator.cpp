@@ -1,3 +1,4 @@
+#include <polyloc/io/message_pose.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/raycast/embree.hpp>
 #include <polyloc/sim/odometry.hpp>

@@ -1,5 +1,5 @@
 #include <polyloc/vrs/danger_zones.hpp>
-#include <polyloc/vrs/grid_walk.hpp>
+#include <polyloc/map/grid_walk.hpp>
 
 #include <algorithm>
 #include <array>

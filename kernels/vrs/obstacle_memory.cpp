@@ -1,4 +1,4 @@
-#include <polyloc/vrs/grid_walk.hpp>
+#include <polyloc/map/grid_walk.hpp>
 #include <polyloc/vrs/obstacle_memory.hpp>
 
 #include <cmath>

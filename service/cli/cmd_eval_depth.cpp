@@ -4,7 +4,7 @@
 #include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/depth/config_yaml.hpp>
 #include <polyloc/eval/depth_quality.hpp>
 #include <polyloc/sim/simulator.hpp>

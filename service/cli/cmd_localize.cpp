@@ -12,7 +12,7 @@
 #include "reloc/report.hpp"
 
 #include <polyloc/geometry/domain.hpp>
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/mcl/weighing.hpp>

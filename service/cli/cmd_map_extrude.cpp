@@ -1,7 +1,7 @@
 // polyloc map extrude: a 2D occupancy grid to a 3D polygon map, walls extruded from the occupied
 // cells on a floor slab (kernels/map/extrude.hpp), validated before it is saved. The grid is a ROS
 // map_server grid (YAML + PGM/PNG) or is built from a CARMEN log with known laser poses
-// (kernels/map/recording_grid.hpp).
+// (kernels/io/recording_grid.hpp).
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
@@ -10,7 +10,7 @@
 #include <polyloc/map/extrude.hpp>
 #include <polyloc/map/grid_map.hpp>
 #include <polyloc/map/load.hpp>
-#include <polyloc/map/recording_grid.hpp>
+#include <polyloc/io/recording_grid.hpp>
 #include <polyloc/map/validate.hpp>
 
 #include "viz/topview.hpp"

@@ -1,18 +1,20 @@
-// polyloc perceive: runs perception over a recording (MCAP, ROS 2 bag, CARMEN): depth frames
-// through the ToF filters (kernels/depth) and, as points, into the virtual range scan
-// (kernels/vrs) with every other frame, the level scanners into people tracking (kernels/tracking), at the pose of the recording's /ground_truth (what localisation gives) or
-// its odometry. Writes DIR/perception.mcap (/vrs, /vrs/localization as LaserScan in base_link,
-// /tracks as polyloc_msgs/TrackArray in map), PNG snapshots, and with the simulator's ground-truth
-// topics scores VRS and tracking (docs/vrs.md, docs/tracking.md).
+// polyloc perceive: runs perception over a recording (MCAP, ROS 2 bag, CARMEN) on polylocd's
+// pipeline without its localiser (pipeline::Pipeline, perception-only): depth frames through the
+// ToF filters (kernels/depth) and, as points, into the virtual range scan (kernels/vrs) with every
+// other frame, the level scanners into people tracking (kernels/tracking), at the pose of the
+// recording's /ground_truth (what localisation gives) or its odometry. Writes DIR/perception.mcap
+// (/vrs, /vrs/localization as LaserScan in base_link, /tracks as polyloc_msgs/TrackArray in map),
+// PNG snapshots, and with the simulator's ground-truth topics scores VRS and tracking (docs/vrs.md,
+// docs/tracking.md).
 #include "cli/parse_number.hpp"
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
+#include "pipeline/pipeline.hpp"
 #include "reloc/topic_router.hpp"
 #include "viz/topview.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
-#include <polyloc/sim/simulator.hpp>  // fromMsgPose
-#include <polyloc/depth/filter.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
+#include <polyloc/io/message_pose.hpp>
 #include <polyloc/eval/mot_metrics.hpp>
 #include <polyloc/eval/stats.hpp>
 #include <polyloc/io/recording.hpp>
@@ -20,7 +22,6 @@
 #include <polyloc/sim/noise.hpp>
 #include <polyloc/sim/vrs_truth.hpp>
 #include <polyloc/tracking/people_tracker.hpp>
-#include <polyloc/vrs/moving_objects.hpp>
 #include <polyloc/vrs/virtual_scan.hpp>
 
 #include <fmt/core.h>
@@ -32,6 +33,7 @@
 #include <cmath>
 #include <filesystem>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <optional>
 
@@ -122,6 +124,22 @@ struct PeopleTruth {
   }
 };
 
+// The outputs of a VRS update, with the tracks of its step. Pipeline::perceive calls onTracks,
+// then setMovingObjects and the VRS update, then onVrs: the time between the two is exactly those
+// two calls (vrs_update_ms).
+struct StepSink final : pipeline::PipelineSink {
+  std::function<void(int64_t stamp, const Tracks&, const VirtualScan&)> step;
+  std::vector<double> update_ms;
+  int64_t stamp = 0;
+  const Tracks* tracks = nullptr;  // the tracker's, unchanged until onVrs
+  Clock::time_point t0;
+  void onTracks(int64_t s, const Tracks& t) override { stamp = s, tracks = &t, t0 = Clock::now(); }
+  void onVrs(const VirtualScan& v) override {
+    update_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    step(stamp, *tracks, v);
+  }
+};
+
 void runPerceive(const PerceiveArgs& a) {
   const auto t_start = Clock::now();
   if (a.pose != "ground_truth" && a.pose != "odometry") throw std::runtime_error("--pose must be ground_truth or odometry");
@@ -131,13 +149,8 @@ void runPerceive(const PerceiveArgs& a) {
   const Mesh map = loadMesh(cfg.map.file, cfg.map.load);
   std::filesystem::create_directories(a.out);
   reloc::TopicRouter router(cfg.rig, std::vector<bool>(cfg.rig.size(), true));
-  VrsConfig vcfg = cfg.vrs;
-  VirtualRangeScanner vrs(cfg.rig, cfg.robot, vcfg, a.pose == "ground_truth" ? &map : nullptr);
-  PeopleTracker people(cfg.rig, cfg.tracking);
-  const std::vector<size_t> level = people.sensors();
-  // The VRS and the tracks update at the frames of the last level scanner in rig order: the
-  // recording has the other scanners' frames of that stamp by then.
-  const size_t trigger = level.empty() ? 0 : level.back();
+  // Odometry poses are not in the map's frame: no map (danger zones) for the VRS then.
+  pipeline::Pipeline pipe(cfg, a.pose == "ground_truth" ? &map : nullptr);
   auto writer = createMcap(a.out + "/perception.mcap");
 
   const auto [total, first_ns, last_ns] = spanOf(reader->topics());
@@ -154,25 +167,20 @@ void runPerceive(const PerceiveArgs& a) {
   std::optional<Step> step;
   MotAccumulator mot(0.5);  // plain CLEAR-MOT: a person back under a new id is a switch
   bool have_truth_people = false;
-  std::vector<double> update_ms;
   double vrs_sum2 = 0;
   size_t vrs_segments = 0, vrs_missed = 0, frames = 0, no_pose = 0, snapshots = 0;
   std::vector<std::string> pngs;
-  // Depth cameras: the filter, and each frame's image until its amplitude (and then its
-  // artefact tags, the simulator's truth) arrive.
-  std::vector<std::optional<DepthFilter>> filters(cfg.rig.size());
-  for (size_t k = 0; k < cfg.rig.size(); ++k)
-    if (const auto* cam = std::get_if<DepthCameraSpec>(&cfg.rig.sensors[k].spec))
-      filters[k].emplace(*cam, cfg.rig.sensors[k].mount, cfg.depth_filter);
+  // Depth cameras: each frame's image until its amplitude arrives (then the pipeline filters
+  // it), and the pixels the filter kept until its artefact tags (the simulator's truth) arrive:
+  // the pipeline's result may be another camera's by then.
   struct DepthPending {
     int64_t stamp = -1;
     std::vector<float> depth;
-    DepthFilterResult result;
+    std::vector<uint8_t> kept;
     bool filtered = false;
   };
   std::vector<DepthPending> depth_pending(cfg.rig.size());
   uint64_t depth_outliers = 0, depth_outliers_removed = 0, depth_valid = 0, depth_valid_kept = 0, depth_frames = 0;
-  std::vector<Eigen::Vector3f> points;
   std::vector<float> ranges;
   auto scoreVrs = [&] {
     for (auto it = truth_vrs.begin(); it != truth_vrs.end();) {
@@ -190,6 +198,30 @@ void runPerceive(const PerceiveArgs& a) {
     while (recent_vrs.size() > 4) recent_vrs.erase(recent_vrs.begin());
     while (truth_vrs.size() > 4) truth_vrs.erase(truth_vrs.begin());
   };
+  StepSink sink;
+  sink.step = [&](int64_t stamp, const Tracks& tracks, const VirtualScan& v) {
+    writer->write("/vrs", stamp, toScan(v, v.ranges, stamp, "base_link"));
+    writer->write("/vrs/localization", stamp, toScan(v, v.ranges_max, stamp, "base_link"));
+    writer->write("/tracks", stamp, toTracks(tracks, stamp, "map"));
+    recent_vrs[stamp] = v;
+    scoreVrs();
+    // The people truth of a step comes after its scans: score the previous step now.
+    if (have_truth_people && step) {
+      const double dt = double(stamp - step->stamp) * 1e-9;
+      mot.addFrame(dt, truth_people.at(step->stamp, step->robot), step->hypotheses);
+    }
+    step = Step{stamp, pose->translation().head<2>(), {}};
+    for (const TrackState& t : tracks.items)
+      if (t.status == TrackStatus::Confirmed) step->hypotheses.push_back({t.id, t.position, true});
+    // Snapshots spread over the run.
+    const double frac = last_ns > first_ns ? double(stamp - first_ns) / double(last_ns - first_ns) : 0.0;
+    if (snapshots < a.snapshots && frac >= (double(snapshots) + 0.5) / double(a.snapshots)) {
+      const std::string png = fmt::format("{}/vrs_{}.png", a.out, snapshots++);
+      snapshot(map, v, pipe.vrs(), tracks, png, double(stamp - first_ns) * 1e-9);
+      pngs.push_back(png);
+    }
+  };
+  std::vector<double>& update_ms = sink.update_ms;
   RecordedMessage m;
   uint64_t read = 0;
   while (reader->next(m)) {
@@ -199,11 +231,11 @@ void runPerceive(const PerceiveArgs& a) {
       std::fflush(stderr);
     }
     if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
-      if (a.pose == "ground_truth") pose = fromMsgPose(p->pose);
+      if (a.pose == "ground_truth") pose = fromMsgPose(p->pose), pipe.setPose(*pose);
       continue;
     }
     if (const auto* o = std::get_if<msg::Odometry>(&m.message)) {
-      if (a.pose == "odometry") pose = fromMsgPose(o->pose.pose);
+      if (a.pose == "odometry") pose = fromMsgPose(o->pose.pose), pipe.setPose(*pose);
       continue;
     }
     if (const auto* t = std::get_if<msg::TrackArray>(&m.message); t && m.topic == "/ground_truth/people") {
@@ -220,7 +252,7 @@ void runPerceive(const PerceiveArgs& a) {
     if (const auto* img = std::get_if<msg::Image>(&m.message); img && m.topic.rfind("/depth/", 0) == 0) {
       const size_t slash = m.topic.rfind('/');
       const int cam = cfg.rig.find(m.topic.substr(7, slash - 7));
-      if (cam < 0 || !filters[size_t(cam)]) continue;
+      if (cam < 0 || !std::holds_alternative<DepthCameraSpec>(cfg.rig.sensors[size_t(cam)].spec)) continue;
       const auto& spec = std::get<DepthCameraSpec>(cfg.rig.sensors[size_t(cam)].spec);
       const std::string kind = m.topic.substr(slash + 1);
       const int64_t stamp = msg::toNs(img->header.stamp);
@@ -234,15 +266,13 @@ void runPerceive(const PerceiveArgs& a) {
       } else if (kind == "amplitude" && float_image && dp.stamp == stamp && pose) {
         std::vector<float> amp(n);
         std::memcpy(amp.data(), img->data.data(), 4 * n);
-        filters[size_t(cam)]->apply(DepthFrameView{spec.width, spec.height, dp.depth.data(), amp.data(), nullptr}, dp.result);
+        pipe.addDepth(size_t(cam), stamp, dp.depth.data(), amp.data(), sink);
+        dp.kept = pipe.lastDepth().valid;
         dp.filtered = true, ++depth_frames, ++frames;
-        points.clear();
-        for (size_t k = 0; k < dp.result.x.size(); ++k) points.emplace_back(dp.result.x[k], dp.result.y[k], dp.result.z[k]);
-        vrs.addPoints(size_t(cam), stamp, *pose, points);
       } else if (kind == "artefacts" && dp.filtered && dp.stamp == stamp && img->data.size() == n) {
         for (size_t k = 0; k < n; ++k) {
           const uint8_t bits = img->data[k] & (kArtefactFlyingPixel | kArtefactReflection);
-          const bool kept = dp.result.valid[k];
+          const bool kept = dp.kept[k];
           if (bits) ++depth_outliers, depth_outliers_removed += !kept;
           else if (std::isfinite(dp.depth[k]) && dp.depth[k] > 0) ++depth_valid, depth_valid_kept += kept;
         }
@@ -256,35 +286,7 @@ void runPerceive(const PerceiveArgs& a) {
       continue;
     }
     ++frames;
-    const size_t sensor = size_t(r.sensor);
-    vrs.addFrame(sensor, r.stamp_ns, *pose, ranges);
-    if (std::count(level.begin(), level.end(), sensor)) people.addScan(sensor, r.stamp_ns, cfg.rig.sensors[sensor].worldPose(*pose), ranges);
-    if (sensor != trigger) continue;
-    people.flush();
-    const auto t0 = Clock::now();
-    vrs.setMovingObjects(movingObjects(people.tracks()));
-    const VirtualScan v = vrs.update(r.stamp_ns, *pose);
-    update_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    writer->write("/vrs", r.stamp_ns, toScan(v, v.ranges, r.stamp_ns, "base_link"));
-    writer->write("/vrs/localization", r.stamp_ns, toScan(v, v.ranges_max, r.stamp_ns, "base_link"));
-    writer->write("/tracks", r.stamp_ns, toTracks(people.tracks(), r.stamp_ns, "map"));
-    recent_vrs[r.stamp_ns] = v;
-    scoreVrs();
-    // The people truth of a step comes after its scans: score the previous step now.
-    if (have_truth_people && step) {
-      const double dt = double(r.stamp_ns - step->stamp) * 1e-9;
-      mot.addFrame(dt, truth_people.at(step->stamp, step->robot), step->hypotheses);
-    }
-    step = Step{r.stamp_ns, pose->translation().head<2>(), {}};
-    for (const TrackState& t : people.tracks().items)
-      if (t.status == TrackStatus::Confirmed) step->hypotheses.push_back({t.id, t.position, true});
-    // Snapshots spread over the run.
-    const double frac = last_ns > first_ns ? double(r.stamp_ns - first_ns) / double(last_ns - first_ns) : 0.0;
-    if (snapshots < a.snapshots && frac >= (double(snapshots) + 0.5) / double(a.snapshots)) {
-      const std::string png = fmt::format("{}/vrs_{}.png", a.out, snapshots++);
-      snapshot(map, v, vrs, people.tracks(), png, double(r.stamp_ns - first_ns) * 1e-9);
-      pngs.push_back(png);
-    }
+    pipe.addRanges(size_t(r.sensor), r.stamp_ns, ranges, sink);  // sink.step at the trigger scanner's frames
   }
   if (tty) fmt::print(stderr, "\rperceive 100% {}/{} messages\n", read, total);
   writer->close();
@@ -310,11 +312,11 @@ void runPerceive(const PerceiveArgs& a) {
   j["depth_frames"] = depth_frames;
   j["depth_outlier_removed"] = depth_outliers ? nlohmann::json(double(depth_outliers_removed) / double(depth_outliers)) : nlohmann::json();
   j["depth_valid_kept"] = depth_valid ? nlohmann::json(double(depth_valid_kept) / double(depth_valid)) : nlohmann::json();
-  const VrsCounters& c = vrs.counters();
+  const VrsCounters& c = pipe.vrs().counters();
   j["counters"] = {{"vrs_frames", c.frames}, {"vrs_frames_rejected", c.frames_rejected},
                    {"memory_inserted", c.memory_inserted}, {"memory_far", c.memory_far},
                    {"memory_behind", c.memory_behind}, {"memory_moving", c.memory_moving},
-                   {"tracking_scans", people.counters().scans}, {"tracking_rejected", people.counters().rejected},
+                   {"tracking_scans", pipe.people().counters().scans}, {"tracking_rejected", pipe.people().counters().rejected},
                    {"records_rejected", reader->stats().rejected}};
   if (a.json) fmt::print("{}\n", j.dump());
   else

@@ -11,7 +11,7 @@
 #include "reloc/batch_run.hpp"
 #include "reloc/cluster.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/mcl/weighing.hpp>

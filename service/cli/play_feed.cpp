@@ -2,8 +2,8 @@
 
 #include "pipeline/shm_payloads.hpp"
 
+#include <polyloc/io/message_pose.hpp>
 #include <polyloc/eval/stats.hpp>
-#include <polyloc/sim/simulator.hpp>  // toMsgPose
 
 #include <fmt/core.h>
 

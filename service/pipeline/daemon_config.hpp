@@ -16,7 +16,7 @@
 //     log_level: info
 #pragma once
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/geometry/pose.hpp>
 
 #include <cstdint>

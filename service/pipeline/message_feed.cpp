@@ -2,7 +2,7 @@
 
 #include "pipeline/shm_payloads.hpp"
 
-#include <polyloc/sim/simulator.hpp>  // fromMsgPose
+#include <polyloc/io/message_pose.hpp>
 
 #include <cstddef>
 #include <cstring>

@@ -9,13 +9,16 @@
 namespace polyloc::pipeline {
 
 Pipeline::Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster, const RayCaster* weigh)
-    : cfg_(config), map_(map) {
-  loc_ = std::make_unique<Localizer>(caster, map_, cfg_.rig, cfg_.mcl, weigh);
-  vrs_ = std::make_unique<VirtualRangeScanner>(cfg_.rig, cfg_.robot, cfg_.vrs, &map_);
+    : Pipeline(config, &map) {
+  loc_ = std::make_unique<Localizer>(caster, map, cfg_.rig, cfg_.mcl, weigh);
+}
+
+Pipeline::Pipeline(const PolylocConfig& config, const Mesh* map) : cfg_(config) {
+  vrs_ = std::make_unique<VirtualRangeScanner>(cfg_.rig, cfg_.robot, cfg_.vrs, map);
   people_ = std::make_unique<PeopleTracker>(cfg_.rig, cfg_.tracking);
   level_ = people_->sensors();
-  // Like perceive: the VRS and tracks renew at the last level scanner's frames, when the other
-  // scanners' frames of that instant are in.
+  // For polylocd and perceive alike: the VRS and tracks renew at the last level scanner's frames,
+  // when the other scanners' frames of that instant are in.
   trigger_ = level_.empty() ? 0 : level_.back();
   filters_.resize(cfg_.rig.size());
   depth_factor_.resize(cfg_.rig.size());
@@ -29,22 +32,30 @@ Pipeline::Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster
 Pipeline::~Pipeline() = default;
 
 std::optional<std::string> Pipeline::checkPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance) const {
+  if (!loc_) return "perception-only pipeline: no localiser to take a pose";
   return loc_->checkPose(map_T_base, covariance);
 }
 
 bool Pipeline::initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns) {
-  if (!loc_->initPose(map_T_base, covariance, stamp_ns)) return false;
+  if (!loc_ || !loc_->initPose(map_T_base, covariance, stamp_ns)) return false;
   map_T_odom_ = map_T_base * odom_T_base_.inverse();
   initialised_ = true;
   return true;
 }
 
 void Pipeline::initGlobal(int64_t stamp_ns) {
+  if (!loc_) return;
   loc_->initGlobal(stamp_ns);
   initialised_ = true;
 }
 
+void Pipeline::setPose(const Pose& map_T_base) {
+  if (loc_) throw std::logic_error("Pipeline::setPose: a localising pipeline takes its pose from the localiser");
+  pose_ = map_T_base;
+}
+
 void Pipeline::addOdometry(int64_t stamp_ns, const Pose& odom_T_base) {
+  if (!loc_) return;
   ++counters_.odometry;
   loc_->addOdometry(stamp_ns, odom_T_base);
   if (domain::validPose(odom_T_base)) odom_T_base_ = odom_T_base, have_odom_ = true;
@@ -78,12 +89,14 @@ bool Pipeline::addDepth(size_t sensor, int64_t stamp_ns, const float* depth, con
     return false;
   }
   ++counters_.depth;
-  const auto& factor = depth_factor_[sensor];
-  // The localiser weighs ranges along the pixel rays; the camera gives depth along the axis.
-  scratch_.resize(factor.size());
-  for (size_t b = 0; b < factor.size(); ++b)
-    scratch_[b] = factor[b] > 0 ? depth[b] / factor[b] : std::numeric_limits<float>::quiet_NaN();
-  if (initialised_) afterScan(loc_->addScan(sensor, stamp_ns, scratch_), sink);
+  if (initialised_) {  // never in perception-only mode
+    // The localiser weighs ranges along the pixel rays; the camera gives depth along the axis.
+    const auto& factor = depth_factor_[sensor];
+    scratch_.resize(factor.size());
+    for (size_t b = 0; b < factor.size(); ++b)
+      scratch_[b] = factor[b] > 0 ? depth[b] / factor[b] : std::numeric_limits<float>::quiet_NaN();
+    afterScan(loc_->addScan(sensor, stamp_ns, scratch_), sink);
+  }
   if (!vrs_enabled_) return true;
   const auto& spec = filters_[sensor]->camera();
   filters_[sensor]->apply(DepthFrameView{spec.width, spec.height, depth, amplitude, nullptr}, depth_result_);

@@ -1,17 +1,22 @@
-// The kernels composed for live frames (docs/polylocd.md, "What it does with each frame"): odometry into the
-// localiser's prediction; every range frame into the localiser, the VRS and (level scanners)
-// people tracking; depth frames as ranges into the localiser and, filtered, as points into the
-// VRS. Outputs go to a sink the moment they are ready: the pose first (it is what a controller
-// waits for), then VRS and tracks. No threads and no I/O of its own (the caller runs it inside
-// its TBB arena) and not thread-safe: one thread feeds it.
+// The kernels composed for live frames (docs/polylocd.md, "What it does with each frame"), one
+// composition for polylocd and `polyloc perceive`: odometry into the localiser's prediction; every
+// range frame into the localiser, the VRS and (level scanners) people tracking; depth frames as
+// ranges into the localiser and, filtered, as points into the VRS. Outputs go to a sink the moment
+// they are ready: the pose first (it is what a controller waits for), then tracks and VRS. No
+// threads and no I/O of its own (the caller runs it inside its TBB arena) and not thread-safe: one
+// thread feeds it.
 //
-//   Pipeline p(config, map, caster);
+//   Pipeline p(config, map, caster);            // localising (polylocd)
 //   p.initGlobal(t0);
 //   p.addOdometry(t, odom_T_base);
-//   p.addRanges(sensor, t, ranges, sink);       // sink.onPose / onVrs / onTracks
+//   p.addRanges(sensor, t, ranges, sink);       // sink.onPose / onTracks / onVrs
+//
+//   Pipeline q(config, &map);                   // perception-only (perceive): the pose is given
+//   q.setPose(map_T_base);
+//   q.addRanges(sensor, t, ranges, sink);       // sink.onTracks / onVrs
 #pragma once
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/depth/filter.hpp>
 #include <polyloc/map/mesh.hpp>
 #include <polyloc/mcl/localizer.hpp>
@@ -21,6 +26,7 @@
 
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <span>
 #include <vector>
@@ -44,30 +50,51 @@ struct PipelineCounters {
 
 class Pipeline {
  public:
+  // Localising: the localiser gives the pose; the VRS has the map (danger zones).
   Pipeline(const PolylocConfig& config, const Mesh& map, const RayCaster& caster, const RayCaster* weigh = nullptr);
+  // Perception-only: no localiser, the caller gives the pose (setPose). map null: the VRS works
+  // without it (no danger zones), as with odometry poses, which are not in the map's frame.
+  // Whatever the pipeline does not own (map, caster) must outlive it.
+  Pipeline(const PolylocConfig& config, const Mesh* map);
   ~Pipeline();
 
-  // False (nothing changes) for a pose or spread the localiser refuses (Localizer::checkPose).
+  bool localizing() const { return loc_ != nullptr; }
+
+  // Localising only. False (nothing changes) for a pose or spread the localiser refuses
+  // (Localizer::checkPose), and always in perception-only mode (checkPose says why).
   bool initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns);
   std::optional<std::string> checkPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance) const;
+  // Localising only; ignored in perception-only mode (initialised() stays false there).
   void initGlobal(int64_t stamp_ns);
   bool initialised() const { return initialised_; }
+  // Perception-only: the pose of the frames that follow, until the next call (before the first,
+  // the identity). Throws std::logic_error when localising: the localiser owns the pose there.
+  void setPose(const Pose& map_T_base);
 
+  // Localising only; ignored (not counted) in perception-only mode, where setPose gives the pose.
   void addOdometry(int64_t stamp_ns, const Pose& odom_T_base);
   // Ranges of a scanner or lidar of the rig in its beam order. False: not such a sensor / size.
   bool addRanges(size_t sensor, int64_t stamp_ns, std::span<const float> ranges, PipelineSink& sink);
   // A depth camera's frame: depth along the optical axis (width x height of its spec), amplitude
   // nullable.
   bool addDepth(size_t sensor, int64_t stamp_ns, const float* depth, const float* amplitude, PipelineSink& sink);
+  // The filter's result for the last addDepth (perceive scores it against the simulator's
+  // artefacts); not renewed while the VRS is off, and overwritten by the next camera's frame.
+  const DepthFilterResult& lastDepth() const { return depth_result_; }
 
   // Switches VRS computation and publication (SETCOLLISIONAVOIDANCE); tracks go on.
   void setVrsEnabled(bool on) { vrs_enabled_ = on; }
   bool vrsEnabled() const { return vrs_enabled_; }
 
   const PolylocConfig& config() const { return cfg_; }
-  const Localizer& localizer() const { return *loc_; }
-  // Where the robot is now: the last estimate moved on by the odometry since.
-  Pose currentPose() const { return map_T_odom_ * odom_T_base_; }
+  // Localising only (localizing()); throws std::logic_error in perception-only mode.
+  const Localizer& localizer() const {
+    if (!loc_) throw std::logic_error("Pipeline::localizer: perception-only pipeline has no localiser");
+    return *loc_;
+  }
+  // Where the robot is now: the last estimate moved on by the odometry since; perception-only:
+  // the pose of setPose, as given (a product with an identity would renormalise it).
+  Pose currentPose() const { return loc_ ? map_T_odom_ * odom_T_base_ : pose_; }
   const PipelineCounters& counters() const { return counters_; }
   const VirtualRangeScanner& vrs() const { return *vrs_; }
   const PeopleTracker& people() const { return *people_; }
@@ -77,7 +104,6 @@ class Pipeline {
   void afterScan(bool updated, PipelineSink& sink);
 
   PolylocConfig cfg_;
-  const Mesh& map_;
   std::unique_ptr<Localizer> loc_;
   std::unique_ptr<VirtualRangeScanner> vrs_;
   std::unique_ptr<PeopleTracker> people_;
@@ -89,6 +115,7 @@ class Pipeline {
   std::vector<float> scratch_;
   std::vector<Eigen::Vector3f> points_;
   Pose odom_T_base_, map_T_odom_;
+  Pose pose_;  // perception-only: setPose's
   bool have_odom_ = false, initialised_ = false, vrs_enabled_ = true;
   PipelineCounters counters_;
 };

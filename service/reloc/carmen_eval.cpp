@@ -8,7 +8,7 @@
 #include <polyloc/io/memory_recording.hpp>
 #include <polyloc/mcl/fit_check.hpp>
 #include <polyloc/raycast/embree.hpp>
-#include <polyloc/sensors/recorded_geometry.hpp>
+#include <polyloc/io/recorded_geometry.hpp>
 
 #include <fmt/core.h>
 

@@ -13,7 +13,7 @@
 
 #include "reloc/recording_job.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/eval/real_log.hpp>
 #include <polyloc/eval/real_log_runs.hpp>
 #include <polyloc/eval/trajectory_metrics.hpp>

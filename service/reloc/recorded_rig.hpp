@@ -2,11 +2,11 @@
 // `rig: recorded` (or no rig) makes one planar scanner per LaserScan topic, named after the topic
 // and mounted at base_link (kRecordedHeight above it; CARMEN's rear laser turned by 180 deg);
 // a rig sensor of preset `recorded` keeps its mount and takes its geometry. The geometry is the
-// first scan's on the topic (sensors/recorded_geometry.hpp); later scans that differ from it are
+// first scan's on the topic (io/recorded_geometry.hpp); later scans that differ from it are
 // rejected by the TopicRouter with a message naming both.
 #pragma once
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/io/recording.hpp>
 
 #include <functional>

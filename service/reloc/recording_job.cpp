@@ -2,11 +2,11 @@
 
 #include "reloc/recorded_rig.hpp"
 
+#include <polyloc/io/message_pose.hpp>
 #include <polyloc/geometry/domain.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/io/restamp.hpp>
 #include <polyloc/io/stamp_check.hpp>
-#include <polyloc/sim/simulator.hpp>  // fromMsgPose
 
 #include <fmt/core.h>
 

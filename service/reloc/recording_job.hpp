@@ -11,7 +11,7 @@
 #include "reloc/topic_router.hpp"
 #include "viz/localize_plot.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/eval/trajectory_metrics.hpp>
 #include <polyloc/io/recording.hpp>
 #include <polyloc/io/tum.hpp>

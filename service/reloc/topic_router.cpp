@@ -1,7 +1,7 @@
 #include "reloc/topic_router.hpp"
 #include "reloc/recorded_rig.hpp"
 
-#include <polyloc/sensors/recorded_geometry.hpp>
+#include <polyloc/io/recorded_geometry.hpp>
 
 #include <fmt/core.h>
 

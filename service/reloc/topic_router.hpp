@@ -22,7 +22,7 @@ class TopicRouter {
   TopicRouter(const Rig& rig, std::vector<bool> enabled);
 
   // WrongSize: a scan's count (or an image's size) differs from the sensor's; WrongGeometry: the
-  // count agrees but the recorded angles do not (sensors/recorded_geometry.hpp).
+  // count agrees but the recorded angles do not (io/recorded_geometry.hpp).
   enum class Kind { Frame, Ignored, UnknownSensor, Disabled, WrongSize, WrongGeometry, BadImage };
   struct Result {
     Kind kind = Kind::Ignored;

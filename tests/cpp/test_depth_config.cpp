@@ -1,5 +1,5 @@
 // The `depth_filter:` config section: defaults, values, and errors that name the key.
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/depth/config_yaml.hpp>
 #include <polyloc/geometry/pose.hpp>
 

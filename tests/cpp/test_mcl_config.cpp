@@ -1,5 +1,5 @@
 // The `mcl:` config section: defaults, values, and errors that name the key.
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
 
 #include <gtest/gtest.h>

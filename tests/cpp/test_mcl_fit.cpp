@@ -4,7 +4,7 @@
 // grid cells, and the robot's clearance taken from its footprint.
 #include "mcl_fixtures.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/map/extrude.hpp>
 #include <polyloc/mcl/fit_check.hpp>
 #include <polyloc/mcl/pose_search.hpp>

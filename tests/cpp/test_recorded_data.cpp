@@ -6,7 +6,7 @@
 #include <polyloc/io/recording.hpp>
 #include <polyloc/io/restamp.hpp>
 #include <polyloc/io/stamp_check.hpp>
-#include <polyloc/sensors/recorded_geometry.hpp>
+#include <polyloc/io/recorded_geometry.hpp>
 
 #include "temp_dir.hpp"
 

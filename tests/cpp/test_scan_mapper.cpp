@@ -6,7 +6,7 @@
 // with Embree from the room centre, has its walls where the room's are.
 #include <polyloc/io/recording.hpp>
 #include <polyloc/map/load.hpp>
-#include <polyloc/map/recording_grid.hpp>
+#include <polyloc/io/recording_grid.hpp>
 #include <polyloc/map/scan_mapper.hpp>
 #include <polyloc/raycast/embree.hpp>
 

@@ -2,7 +2,7 @@
 // configuration and scenario files; the bundled files load and match the built-in presets.
 #include "temp_dir.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/config/yaml.hpp>
 #include <polyloc/sensors/rig.hpp>
 #include <polyloc/sim/scenario.hpp>

@@ -1,6 +1,6 @@
 // The `tracking:` config section: defaults, values, errors that name the key, sensor names
 // checked against the rig; the PeopleTracker's choice of scanners.
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/tracking/config_yaml.hpp>
 #include <polyloc/tracking/people_tracker.hpp>
 

@@ -3,7 +3,7 @@
 // camera only. Frames at the ground-truth pose (what localisation gives).
 #include "vrs_fixtures.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/sim/vrs_truth.hpp>
 

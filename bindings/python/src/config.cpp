@@ -2,7 +2,7 @@
 // kernels, each a bound settings struct (mcl_config.cpp, depth.cpp, vrs.cpp, tracking.cpp).
 #include "common.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 
 #include <pybind11/stl.h>
 

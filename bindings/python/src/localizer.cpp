@@ -2,7 +2,7 @@
 // references: the mesh, the caster, the rig and the settings.
 #include "common.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>

@@ -11,7 +11,7 @@
 #include "shm/atomic.hpp"
 #include "shm/segment.hpp"
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 
 #include <pybind11/stl.h>
 

@@ -11,6 +11,7 @@
 #include <polyloc/geometry/pose.hpp>
 #include <polyloc/map/mesh.hpp>
 #include <polyloc/mcl/config.hpp>
+#include <polyloc/mcl/particles.hpp>
 #include <polyloc/raycast/ray_caster.hpp>
 #include <polyloc/sensors/rig.hpp>
 
@@ -45,15 +46,6 @@ struct MclEstimate {
   double map_fit = -1;
   std::vector<double> sensor_fit;
   bool unfit = false;
-};
-
-// Particles, structure of arrays; orientation as unit quaternion, weights in log space.
-struct ParticleSet {
-  std::vector<double> x, y, z;
-  std::vector<double> qw, qx, qy, qz;
-  std::vector<double> logw;
-  size_t size() const { return x.size(); }
-  Pose pose(size_t i) const;
 };
 
 // Counted rejections and events, for logs and the health channel.

@@ -8,7 +8,7 @@
 
 #include <polyloc/geometry/random.hpp>
 #include <polyloc/mcl/config.hpp>
-#include <polyloc/mcl/localizer.hpp>
+#include <polyloc/mcl/particles.hpp>
 
 namespace polyloc {
 
@@ -19,9 +19,5 @@ Pose sampleMotion(const Pose& particle, const Pose& delta, const MotionNoise& no
 // All particles, in parallel (TBB).
 void applyMotion(ParticleSet& particles, const Pose& delta, const MotionNoise& noise, int dof,
                  const CounterRng& rng, uint64_t step);
-
-// Helpers on the SoA set.
-void setParticle(ParticleSet& s, size_t i, const Pose& p);
-void resizeParticles(ParticleSet& s, size_t n);
 
 }  // namespace polyloc

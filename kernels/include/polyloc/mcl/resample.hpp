@@ -4,7 +4,7 @@
 
 #include <polyloc/geometry/random.hpp>
 #include <polyloc/mcl/config.hpp>
-#include <polyloc/mcl/localizer.hpp>
+#include <polyloc/mcl/particles.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -24,7 +24,5 @@ std::vector<size_t> systematicResample(const std::vector<double>& logw, size_t n
 size_t kldParticleCount(size_t occupied_bins, const MclConfig& config);
 // Occupied (x, y, yaw) bins of the particles at `indices` of set s.
 size_t occupiedBins(const ParticleSet& s, const std::vector<size_t>& indices, const MclConfig& config);
-// New set holding the particles at `indices`, uniform weights.
-ParticleSet gatherParticles(const ParticleSet& s, const std::vector<size_t>& indices);
 
 }  // namespace polyloc

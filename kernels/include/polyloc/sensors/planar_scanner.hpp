@@ -19,7 +19,7 @@ struct PlanarScannerSpec {
   // be centred (a CARMEN FLASER's 180 beams span -90..+89 deg).
   double angle_min_rad = std::numeric_limits<double>::quiet_NaN();
   // The geometry (fov, resolution, angle_min, ranges) is taken from the first scan on the
-  // sensor's topic in the recording (rig preset `recorded`, sensors/recorded_geometry.hpp).
+  // sensor's topic in the recording (rig preset `recorded`, io/recorded_geometry.hpp).
   bool from_recording = false;
 
   size_t numBeams() const;     // floor(fov / resolution) + 1

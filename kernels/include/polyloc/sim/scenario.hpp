@@ -4,7 +4,7 @@
 // lists every key with its default. Tests build one in code.
 #pragma once
 
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/sim/chairs.hpp>
 #include <polyloc/sim/floor.hpp>
 #include <polyloc/sim/noise.hpp>

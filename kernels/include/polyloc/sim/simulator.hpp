@@ -112,9 +112,4 @@ class Simulator {
 // Loads the scenario's map file with its load options. Throws MapError.
 Mesh loadScenarioMap(const Scenario& s);
 
-// Conversions to message fields (also for the CLI's TUM and plots).
-msg::Pose toMsgPose(const Pose& p);
-Pose fromMsgPose(const msg::Pose& m);
-msg::Transform toMsgTransform(const Pose& p);
-
 }  // namespace polyloc

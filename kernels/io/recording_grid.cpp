@@ -1,5 +1,5 @@
-#include <polyloc/map/recording_grid.hpp>
-#include <polyloc/sim/simulator.hpp>
+#include <polyloc/io/recording_grid.hpp>
+#include <polyloc/io/message_pose.hpp>
 
 #include <algorithm>
 #include <optional>

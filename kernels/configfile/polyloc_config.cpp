@@ -1,4 +1,4 @@
-#include <polyloc/config/polyloc_config.hpp>
+#include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/depth/config_yaml.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
 #include <polyloc/vrs/config_yaml.hpp>

@@ -1,5 +1,5 @@
 #include <polyloc/geometry/pose.hpp>
-#include <polyloc/sensors/recorded_geometry.hpp>
+#include <polyloc/io/recorded_geometry.hpp>
 
 #include <fmt/core.h>
 
