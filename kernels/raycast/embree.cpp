@@ -62,10 +62,11 @@ unsigned primOf(const Hit& hit, int k) {
 // traversal met last: packets and single rays then disagree (0 m or the neighbour's face). The
 // tie filter makes the answer independent of the order: at one distance a back face wins (the
 // origin is inside a solid: backface_is_solid gives the window start, as for any ray from
-// inside), then the lower triangle index. Only rays whose hit lies on such a face
-// (map/coincident_faces.hpp) are cast again with it: a filter on every ray cost 13-20% of the
-// packets' and the localiser's speed, for rays that start inside solids. Lanes are told apart by
-// ray id.
+// inside), then the lower triangle index. Only rays whose hit lies where such faces overlap
+// (map/coincident_faces.hpp: a floor under the furniture, not the whole floor) are cast again
+// with it: a filter on every ray cost 13-20% of the packets' and the localiser's speed, and
+// casting again every hit on a partly covered triangle cost the localiser a third (tilted
+// scanners see the floor all the time). Lanes are told apart by ray id.
 struct TieContext {
   RTCIntersectContext ctx;  // first member: Embree passes &ctx to the filter
   const float *nx, *ny, *nz;
@@ -117,10 +118,13 @@ struct EmbreeCaster::Impl {
   std::vector<float> nx, ny, nz;
   CastArena pool;
   std::atomic<int64_t> device_bytes{0};  // Embree's memory monitor: allocated minus freed
-  std::vector<uint8_t> coincident;       // per triangle: lies on a face facing the other way
-  bool any_coincident = false;
+  CoincidentFaces coincident;            // where faces lie on faces facing the other way
 
-  bool tied(unsigned prim) const { return any_coincident && prim != RTC_INVALID_GEOMETRY_ID && coincident[prim]; }
+  // Whether the hit at `t` on `prim` lies where another face covers it: a tie is possible there.
+  bool tied(unsigned prim, float ox, float oy, float oz, float dx, float dy, float dz, float t) const {
+    return coincident.any() && prim != RTC_INVALID_GEOMETRY_ID && coincident.has(prim) &&
+           coincident.covers(prim, Eigen::Vector3f(ox + t * dx, oy + t * dy, oz + t * dz));
+  }
 
   // One ray again with the tie rule, when its hit lies on a coincident face: its distance and
   // triangle replace `tfar` and `prim`.
@@ -202,8 +206,7 @@ EmbreeCaster::EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options) : imp
     m.ny[t] = n.y();
     m.nz[t] = n.z();
   }
-  m.coincident = coincidentFaces(mesh);
-  m.any_coincident = std::find(m.coincident.begin(), m.coincident.end(), 1) != m.coincident.end();
+  m.coincident = CoincidentFaces(mesh);
   rtcSetGeometryPointQueryFunction(geom, clearanceCallback);
   rtcCommitGeometry(geom);
   rtcAttachGeometry(m.scene, geom);
@@ -274,7 +277,7 @@ void EmbreeCaster::castScans(std::span<const Pose> poses, const BeamSet& beams,
         for (int k = 0; k < n; ++k) {
           float tfar = rh.ray.tfar[k];
           unsigned prim = primOf(rh.hit, k);
-          if (m.tied(prim))
+          if (m.tied(prim, o.x(), o.y(), o.z(), rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k], tfar))
             m.recast(o.x(), o.y(), o.z(), rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k], t0[k], t1[k], tfar, prim);
           m.finish(out, p * nb + b0 + k, tfar, prim, rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k], t0[k], t1[k], opt);
         }
@@ -305,7 +308,7 @@ void EmbreeCaster::castScansSingle(std::span<const Pose> poses, const BeamSet& b
           rtcIntersect1(m.scene, &ctx, &rh);
         float tfar = rh.ray.tfar;
         unsigned prim = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID : rh.hit.primID;
-        if (m.tied(prim))
+        if (m.tied(prim, o.x(), o.y(), o.z(), d.x(), d.y(), d.z(), tfar))
           m.recast(o.x(), o.y(), o.z(), d.x(), d.y(), d.z(), beams.range_min, beams.range_max, tfar, prim);
         m.finish(out, p * nb + b, tfar, prim, d.x(), d.y(), d.z(), beams.range_min, beams.range_max, opt);
       }
@@ -349,7 +352,8 @@ void EmbreeCaster::castRays(const RayBatch& rays, const HitBuffers& out) const {
       for (int k = 0; k < n; ++k) {
         float tfar = rh.ray.tfar[k];
         unsigned prim = primOf(rh.hit, k);
-        if (m.tied(prim))
+        if (m.tied(prim, rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k], rh.ray.dir_x[k], rh.ray.dir_y[k],
+                   rh.ray.dir_z[k], tfar))
           m.recast(rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k], rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k],
                    t0[k], t1[k], tfar, prim);
         m.finish(out, i0 + k, tfar, prim, rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k], t0[k], t1[k], opt);
@@ -381,7 +385,7 @@ void EmbreeCaster::queryFree(std::span<const Eigen::Vector3f> points, float clea
         rtcIntersect1(m.scene, &ctx, &rh);
         float tfar = rh.ray.tfar;
         unsigned t = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID : rh.hit.primID;
-        if (m.tied(t)) m.recast(p.x(), p.y(), p.z(), d[0], d[1], d[2], 0.f, kInf, tfar, t);
+        if (m.tied(t, p.x(), p.y(), p.z(), d[0], d[1], d[2], tfar)) m.recast(p.x(), p.y(), p.z(), d[0], d[1], d[2], 0.f, kInf, tfar, t);
         if (t != RTC_INVALID_GEOMETRY_ID) back += m.nx[t] * d[0] + m.ny[t] * d[1] + m.nz[t] * d[2] > 0.f;
       }
       bool ok = back < 2;

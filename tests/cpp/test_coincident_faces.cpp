@@ -10,11 +10,10 @@ TEST(CoincidentFaces, TouchingBoxesShareOnlyTheirContactFaces) {
   m.addBox({0, 0, 0}, {1, 1, 1}, 1);
   m.addBox({1, 0.25, 0}, {2, 0.75, 0.5}, 2);  // against the first box's x = 1 face, smaller
   m.addBox({3, 0, 0}, {4, 1, 1}, 3);          // apart: nothing shared
-  const std::vector<uint8_t> c = coincidentFaces(m);
-  ASSERT_EQ(c.size(), m.triangles.size());
+  const CoincidentFaces c(m);
   size_t flagged = 0;
-  for (size_t t = 0; t < c.size(); ++t) {
-    if (!c[t]) continue;
+  for (uint32_t t = 0; t < m.triangles.size(); ++t) {
+    if (!c.has(t)) continue;
     ++flagged;
     const Eigen::Vector3f n = m.triangleNormal(t);
     EXPECT_NEAR(std::abs(n.x()), 1.f, 1e-6f) << t;  // only faces in the plane x = 1
@@ -22,6 +21,15 @@ TEST(CoincidentFaces, TouchingBoxesShareOnlyTheirContactFaces) {
     EXPECT_LT(t, 24u) << "the third box touches nothing";
   }
   EXPECT_EQ(flagged, 4u);  // two triangles of each box's face at x = 1
+  EXPECT_EQ(c.triangles(), 4u);
+  // The first box's x = 1 face is covered only where the second box stands against it.
+  bool covered_inside = false, covered_outside = false;
+  for (uint32_t t = 0; t < 12; ++t) {
+    covered_inside = covered_inside || c.covers(t, {1.f, 0.5f, 0.25f});
+    covered_outside = covered_outside || c.covers(t, {1.f, 0.1f, 0.9f});
+  }
+  EXPECT_TRUE(covered_inside);
+  EXPECT_FALSE(covered_outside);
 }
 
 TEST(CoincidentFaces, FacesThatOnlyShareAnEdgeOrFaceTheSameWayAreNotCoincident) {
@@ -29,5 +37,7 @@ TEST(CoincidentFaces, FacesThatOnlyShareAnEdgeOrFaceTheSameWayAreNotCoincident) 
   m.addBox({0, 0, 0}, {1, 1, 1}, 1);
   m.addBox({1, 1, 0}, {2, 2, 1}, 2);  // meets the first along an edge only
   m.addBox({0, 0, 2}, {1, 1, 3}, 3);  // its faces are coplanar with the first's, facing the same way
-  for (uint8_t f : coincidentFaces(m)) EXPECT_EQ(f, 0);
+  const CoincidentFaces c(m);
+  EXPECT_FALSE(c.any());
+  EXPECT_EQ(c.triangles(), 0u);
 }
