@@ -5,6 +5,7 @@ JOBS      ?= $(shell nproc)
 
 # Debian 12 packages the build needs; `make deps` installs the missing ones, quietly.
 # clang and its runtime build the libFuzzer targets (fuzz/), which `make test` runs briefly.
+# EGL/GLES and Mesa's drivers: the GPU path (kernels/gpu), tested on llvmpipe where no GPU is.
 # node/npm (for the cross-check of our MCAP/CDR against the reference JS readers) are taken
 # from PATH when present, else from Debian.
 APT_PACKAGES := g++ cmake ninja-build pkg-config \
@@ -15,7 +16,8 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libgtest-dev libgmock-dev libbenchmark-dev \
   libopenmpi-dev openmpi-bin \
   clang libclang-rt-14-dev \
-  pybind11-dev python3-dev python3-numpy python3-pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest \
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
 
 .PHONY: run test deps configure build bench bench-carmen check-figures clean
 

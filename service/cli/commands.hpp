@@ -26,5 +26,6 @@ void registerEvalDepth(CLI::App& eval);   // polyloc eval depth ...     (cmd_eva
 void registerEvalCarmen(CLI::App& eval);  // polyloc eval carmen ...    (cmd_eval_carmen.cpp)
 void registerPlay(CLI::App& app);         // polyloc play ...           (cmd_play.cpp)
 void registerCtl(CLI::App& app);          // polyloc ctl --port P CMD   (cmd_ctl.cpp)
+void registerGpu(CLI::App& app);          // polyloc gpu info [--json]   (cmd_gpu.cpp)
 
 }  // namespace polyloc::cli

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   polyloc::cli::registerPerceive(app);
   polyloc::cli::registerPlay(app);
   polyloc::cli::registerCtl(app);
+  polyloc::cli::registerGpu(app);
 
   try {
     app.parse(argc, argv);
