@@ -66,48 +66,35 @@ unsigned primOf(const Hit& hit, int k) {
 // (map/coincident_faces.hpp: a floor under the furniture, not the whole floor) are cast again
 // with it: a filter on every ray cost 13-20% of the packets' and the localiser's speed, and
 // casting again every hit on a partly covered triangle cost the localiser a third (tilted
-// scanners see the floor all the time). Lanes are told apart by ray id.
+// scanners see the floor all the time). The filter runs on single rays only (recast).
 struct TieContext {
   RTCIntersectContext ctx;  // first member: Embree passes &ctx to the filter
   const float *nx, *ny, *nz;
-  float t[kPacket];
-  unsigned prim[kPacket];
+  float t = kInf;  // the kept hit
+  unsigned prim = 0;
 
-  TieContext(const float* x, const float* y, const float* z, RTCIntersectContextFlags flags);
-  void reset() { std::fill(std::begin(t), std::end(t), kInf); }
-  bool back(unsigned p, RTCRayN* ray, unsigned N, unsigned i) const {
-    return nx[p] * RTCRayN_dir_x(ray, N, i) + ny[p] * RTCRayN_dir_y(ray, N, i) + nz[p] * RTCRayN_dir_z(ray, N, i) > 0.f;
+  TieContext(const float* x, const float* y, const float* z) : nx(x), ny(y), nz(z) {
+    rtcInitIntersectContext(&ctx);
+    ctx.filter = tieFilter;
+  }
+  bool back(unsigned p, RTCRayN* ray) const {
+    return nx[p] * RTCRayN_dir_x(ray, 1, 0) + ny[p] * RTCRayN_dir_y(ray, 1, 0) + nz[p] * RTCRayN_dir_z(ray, 1, 0) > 0.f;
+  }
+
+  // Called for every candidate hit, so the usual case (nearer than the kept one) only records it;
+  // facing is looked at on ties alone.
+  static void tieFilter(const RTCFilterFunctionNArguments* args) {
+    auto* c = reinterpret_cast<TieContext*>(args->context);
+    if (args->valid[0] != -1) return;
+    const float t = RTCRayN_tfar(args->ray, 1, 0);  // the candidate's distance
+    const unsigned prim = RTCHitN_primID(args->hit, 1, 0);
+    if (t == c->t) {
+      const bool back = c->back(prim, args->ray), kept_back = c->back(c->prim, args->ray);
+      if (back != kept_back ? !back : prim > c->prim) return void(args->valid[0] = 0);
+    }
+    c->t = t, c->prim = prim;
   }
 };
-
-// Called for every candidate hit, so the usual case (nearer than the kept one) only records it;
-// facing is looked at on ties alone.
-void tieFilter(const RTCFilterFunctionNArguments* args) {
-  auto* c = reinterpret_cast<TieContext*>(args->context);
-  const unsigned N = args->N;
-  for (unsigned i = 0; i < N; ++i) {
-    if (args->valid[i] != -1) continue;
-    const unsigned lane = RTCRayN_id(args->ray, N, i) % kPacket;
-    const float t = RTCRayN_tfar(args->ray, N, i);  // the candidate's distance
-    const unsigned prim = RTCHitN_primID(args->hit, N, i);
-    if (t == c->t[lane]) {
-      const bool back = c->back(prim, args->ray, N, i), kept_back = c->back(c->prim[lane], args->ray, N, i);
-      if (back != kept_back ? !back : prim > c->prim[lane]) {
-        args->valid[i] = 0;
-        continue;
-      }
-    }
-    c->t[lane] = t, c->prim[lane] = prim;
-  }
-}
-
-TieContext::TieContext(const float* x, const float* y, const float* z, RTCIntersectContextFlags flags)
-    : nx(x), ny(y), nz(z) {
-  rtcInitIntersectContext(&ctx);
-  ctx.flags = flags;
-  ctx.filter = tieFilter;
-  reset();
-}
 
 }  // namespace
 
@@ -130,7 +117,7 @@ struct EmbreeCaster::Impl {
   // triangle replace `tfar` and `prim`.
   void recast(float ox, float oy, float oz, float dx, float dy, float dz, float t0, float t1, float& tfar,
               unsigned& prim) const {
-    TieContext tie(nx.data(), ny.data(), nz.data(), RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
+    TieContext tie(nx.data(), ny.data(), nz.data());
     RTCRayHit rh;
     rh.ray = {ox, oy, oz, t0, dx, dy, dz, 0.f, t1, 0xFFFFFFFFu, 0, 0};
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
