@@ -64,9 +64,17 @@ EGLDisplay openDisplay(const std::string& platform, const char* client_ext) {
 
 }  // namespace
 
+// Cleanup here, not in ~GpuContext: it must also run when the constructor throws after
+// eglInitialize.
 struct GpuContext::Impl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
+  ~Impl() {
+    if (display == EGL_NO_DISPLAY) return;
+    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
+    eglTerminate(display);
+  }
 };
 
 GpuContext::GpuContext(const GpuOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -128,22 +136,24 @@ GpuContext::GpuContext(const GpuOptions& options) : impl_(std::make_unique<Impl>
   check("reading the context's limits");
 }
 
-GpuContext::~GpuContext() {
-  if (impl_->display == EGL_NO_DISPLAY) return;
-  eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-  if (impl_->context != EGL_NO_CONTEXT) eglDestroyContext(impl_->display, impl_->context);
-  eglTerminate(impl_->display);
-}
+GpuContext::~GpuContext() = default;
 
 void GpuContext::makeCurrent() const {
   if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context))
     throw GpuError("gpu: cannot make the context current (" + eglErrorName(eglGetError()) + ")");
 }
 
+void GpuContext::release() const {
+  if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT))
+    throw GpuError("gpu: cannot release the context (" + eglErrorName(eglGetError()) + ")");
+}
+
 void GpuContext::check(const char* what) const {
   const GLenum e = glGetError();
   if (e == GL_NO_ERROR) return;
+  constexpr GLenum kContextLost = 0x0507;  // GL_CONTEXT_LOST (GLES 3.2, KHR_robustness)
   const char* name = e == GL_OUT_OF_MEMORY ? "GL_OUT_OF_MEMORY (GPU memory exhausted)"
+                     : e == kContextLost ? "GL_CONTEXT_LOST (the GPU was reset; make a new context)"
                      : e == GL_INVALID_OPERATION ? "GL_INVALID_OPERATION"
                      : e == GL_INVALID_VALUE ? "GL_INVALID_VALUE"
                      : e == GL_INVALID_ENUM ? "GL_INVALID_ENUM" : "GL error";

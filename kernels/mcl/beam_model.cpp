@@ -1,5 +1,6 @@
 #include <polyloc/geometry/random.hpp>
 #include <polyloc/mcl/beam_model.hpp>
+#include <polyloc/raycast/scan_score.hpp>
 
 #include <tbb/parallel_for.h>
 
@@ -102,13 +103,9 @@ size_t BeamSensorModel::weighSelected(const ParticleSet& ps, const SensorFrame& 
     tmax_[i] = std::min<float>(all.range_max, ranges[b] + w);
   }
   poses_.resize(P);
-  hits_.resize(P * B);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 512), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t p = r.begin(); p < r.end(); ++p) poses_[p] = sensor.worldPose(ps.pose(p));
   });
-  HitBuffers out;
-  out.range = hits_.data();
-  caster_.castScans(poses_, beams_, out, ScanWindow{tmin_.data(), tmax_.data()});
   // Per beam, the parts of the mixture that do not depend on the particle; the short term's
   // normaliser 1 / (1 - exp(-lambda e)) is taken at the measured range (the expected range e
   // lies within the window around it), so a beam costs one expf and one logf per particle.
@@ -136,30 +133,24 @@ size_t BeamSensorModel::weighSelected(const ParticleSet& ps, const SensorFrame& 
       log_table_[k] = std::log(hit_table_[k] + p_rand);
     }
   }
+  ScanScoring scoring{measured_.data(), miss_.data(), short_.data(), hit_scale_.data(), half_inv_var_.data(), p_rand};
+  if (table) scoring.hit_table = hit_table_.data(), scoring.log_table = log_table_.data(), scoring.table_size = kTable;
+  scoring.inv_step = inv_step;
+  const ScanWindow window{tmin_.data(), tmax_.data()};
+  if (const auto* scorer = dynamic_cast<const ScanScorer*>(&caster_)) {
+    // The caster sums where it casts (a GPU): only one number a particle comes back.
+    sums_.resize(P);
+    scorer->scoreScans(poses_, beams_, window, scoring, sums_.data());
+    for (size_t p = 0; p < P; ++p) loglik[p] += m.log_scale * sums_[p];
+    return B;
+  }
+  hits_.resize(P * B);
+  HitBuffers out;
+  out.range = hits_.data();
+  caster_.castScans(poses_, beams_, out, window);
   // Per particle, a sequential sum over its beams: the same for any split over threads.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t p = r.begin(); p < r.end(); ++p) {
-      const float* h = hits_.data() + p * B;
-      double s = 0;
-      for (size_t i = 0; i < B; ++i) {
-        if (!std::isfinite(h[i])) {
-          s += miss_[i];
-          continue;
-        }
-        const float d = measured_[i] - h[i];
-        if (table) {
-          const float x = std::abs(d) * inv_step;
-          const size_t k = std::min(size_t(x), kTable - 2);
-          const float f = std::min(x - float(k), 1.f);
-          if (d >= 0) s += log_table_[k] + f * (log_table_[k + 1] - log_table_[k]);
-          else s += std::log(hit_table_[k] + f * (hit_table_[k + 1] - hit_table_[k]) + short_[i] + p_rand);
-          continue;
-        }
-        const float dens = hit_scale_[i] * std::exp(-half_inv_var_[i] * d * d) + (d < 0 ? short_[i] : 0.f) + p_rand;
-        s += std::log(dens);
-      }
-      loglik[p] += m.log_scale * s;
-    }
+    for (size_t p = r.begin(); p < r.end(); ++p) loglik[p] += m.log_scale * scoreHits(hits_.data() + p * B, B, scoring);
   });
   return B;
 }

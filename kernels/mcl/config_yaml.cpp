@@ -32,6 +32,8 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
   c.caster = m.getChoice("caster", c.caster, casterNames());
   c.caster_resolution = m.getDouble("caster_resolution", c.caster_resolution, 1e-3, 10);
   if (m.has("caster_height")) c.caster_height = m.getDouble("caster_height", 0.3, -100, 100);
+  c.gpu_platforms = m.getString("gpu_platforms", c.gpu_platforms);
+  c.gpu_fallback = m.getChoice("gpu_fallback", c.gpu_fallback, {"none", "embree"});
   if (rig) {
     try {
       weighedSensors(*rig, c);

@@ -46,6 +46,8 @@ std::unique_ptr<RayCaster> makeWeighingCaster(const Mesh& mesh, const Rig& rig, 
   o.threads = threads;
   o.resolution = config.caster_resolution;
   o.height = weighingSliceHeight(rig, config);
+  o.gpu_platforms = config.gpu_platforms;
+  o.gpu_fallback = config.gpu_fallback == "embree";
   return makeCaster(config.caster, mesh, o);
 }
 

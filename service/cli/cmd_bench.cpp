@@ -1,5 +1,7 @@
 // polyloc bench raycast: rays/s of the Embree batch caster on a map, against a plain loop of one
-// rtcIntersect1 per ray over the same rays in the same run, and against one thread.
+// rtcIntersect1 per ray over the same rays in the same run, and against one thread. With
+// --caster NAME another backend (gpu, bsp, ...) against Embree in the same run: rays/s, build
+// time, memory, and how many ranges agree with Embree's within 1 mm.
 #include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/bench_timing.hpp"
@@ -7,7 +9,11 @@
 
 #include <polyloc/map/load.hpp>
 #include <polyloc/raycast/embree.hpp>
+#include <polyloc/raycast/factory.hpp>
 #include <polyloc/raycast/workload.hpp>
+#ifdef POLYLOC_HAVE_GPU
+#include <polyloc/gpu/caster.hpp>
+#endif
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -29,10 +35,74 @@ struct BenchRaycastArgs {
   float range_max = 30.f;
   int repeat = 5;
   uint64_t seed = 1;
+  std::string caster = "embree";
   bool json = false;
 };
 
+// A backend of makeCaster against Embree on the same rays, timed alternately.
+void runBenchCaster(const BenchRaycastArgs& a) {
+  const Mesh mesh = loadMesh(a.map);
+  CasterOptions o;
+  o.threads = a.threads;
+  o.height = a.height;
+  std::unique_ptr<RayCaster> caster;
+  const double build_s = seconds([&] { caster = makeCaster(a.caster, mesh, o); });
+  EmbreeOptions eo;
+  eo.threads = a.threads;
+  const EmbreeCaster embree(mesh, eo);
+  const std::vector<Pose> poses = randomPlanarPoses(mesh.bounds(), a.poses, a.height, a.seed);
+  const BeamSet beams = horizontalFan(a.beams, a.range_max);
+  const size_t n = poses.size() * beams.size();
+  std::vector<float> range(n), ref(n);
+  const auto run = [&] { caster->castScans(poses, beams, {range.data()}); };
+  const auto run_ref = [&] { embree.castScans(poses, beams, {ref.data()}); };
+  run(), run_ref();  // warm-up: TBB workers, GPU buffers
+  double best = 0, best_ref = 0;
+  for (int i = 0; i < a.repeat; ++i) {
+    best = std::max(best, bestRate(1, double(n), run));
+    best_ref = std::max(best_ref, bestRate(1, double(n), run_ref));
+  }
+  size_t within = 0, disagree = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const bool h = std::isfinite(range[i]), hr = std::isfinite(ref[i]);
+    disagree += h != hr;
+    within += h == hr && (!h || std::abs(range[i] - ref[i]) <= 1e-3f);
+  }
+  nlohmann::json j;
+  j["map"] = a.map;
+  j["caster"] = a.caster;
+  j["triangles"] = mesh.numTriangles();
+  j["build_s"] = build_s;
+  j["memory_bytes"] = caster->memoryBytes();
+  j["poses"] = a.poses;
+  j["beams"] = a.beams;
+  j["threads"] = a.threads;
+  j["rays"] = n;
+  j["rays_per_s"] = best;
+  j["embree_rays_per_s"] = best_ref;
+  j["ratio_vs_embree"] = best / best_ref;
+  j["within_1mm_of_embree"] = double(within) / double(n);
+  j["hit_disagreement"] = double(disagree) / double(n);
+#ifdef POLYLOC_HAVE_GPU
+  if (const auto* g = dynamic_cast<const GpuCaster*>(caster.get())) {
+    j["renderer"] = g->info().renderer;
+    j["gl_version"] = g->info().version;
+    j["software_renderer"] = g->info().software;
+  }
+#endif
+  if (a.json) return fmt::print("{}\n", j.dump());
+  fmt::print("map {} ({} triangles): {} built in {:.3f} s, {:.1f} MB\n", a.map, mesh.numTriangles(), a.caster, build_s,
+             double(caster->memoryBytes()) / 1e6);
+  if (j.contains("renderer")) fmt::print("  renderer: {} ({})\n", j["renderer"].get<std::string>(), j["gl_version"].get<std::string>());
+  fmt::print("{} poses x {} beams at z = {} m\n", a.poses, a.beams, a.height);
+  fmt::print("  {:<8}{:14.0f} rays/s\n  embree  {:14.0f} rays/s ({} threads; {} / embree = {:.3f})\n", a.caster, best,
+             best_ref, a.threads, a.caster, best / best_ref);
+  fmt::print("  ranges within 1 mm of Embree's: {:.3f} %, hit/miss disagreements {:.3f} %\n", 100.0 * double(within) / double(n),
+             100.0 * double(disagree) / double(n));
+}
+
 void runBenchRaycast(const BenchRaycastArgs& a) {
+  if (a.caster != "embree") return runBenchCaster(a);
   Mesh mesh = loadMesh(a.map);
   std::unique_ptr<EmbreeCaster> caster;
   const double build_s = seconds([&] { caster = std::make_unique<EmbreeCaster>(mesh); });
@@ -119,6 +189,9 @@ void registerBench(CLI::App& app) {
   rc.add_option("--range-max", args->range_max, "Range limit (m)")->capture_default_str()->check(positiveFinite());
   rc.add_option("--repeat", args->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
   addSeedOption(rc, args->seed, "Seed of the random poses")->capture_default_str();
+  rc.add_option("--caster", args->caster, "Backend to measure against Embree (raycast/factory: embree, gpu, bsp, ...)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(casterNames()));
   rc.add_flag("--json", args->json, "Print one JSON object on stdout");
   rc.callback([args] { runBenchRaycast(*args); });
   registerBenchMcl(bench);

@@ -9,7 +9,9 @@
 #include <polyloc/mcl/free_floor.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/sensor_model.hpp>
+#include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
+#include <polyloc/raycast/factory.hpp>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -31,6 +33,7 @@ struct BenchMclArgs {
   double height = 0.3;
   uint64_t seed = 1;
   std::string model = "beam";
+  std::string caster = "embree";
   bool json = false;
 };
 
@@ -50,6 +53,7 @@ void runBenchMcl(const BenchMclArgs& a) {
   cfg.threads = a.threads;
   cfg.seed = a.seed;
   cfg.model = a.model;
+  cfg.caster = a.caster;
 
   PlanarScannerSpec spec;
   spec.fov_rad = deg2rad(270.0);
@@ -75,8 +79,11 @@ void runBenchMcl(const BenchMclArgs& a) {
   }
   // The model's one-off set-up (the likelihood field builds its distance field here) is not timed.
   const double b0 = now();
-  Localizer loc(caster, mesh, rig, cfg);
+  // mcl.caster: the particles are weighed against it; Embree keeps the floor and free space.
+  const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(mesh, rig, cfg, a.threads);
+  Localizer loc(caster, mesh, rig, cfg, weigh.get());
   const double setup_s = now() - b0;
+  const RayCaster& weighing = weigh ? *weigh : caster;
   Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
   cov(0, 0) = cov(1, 1) = 0.1 * 0.1, cov(5, 5) = 0.05 * 0.05;
   if (a.dof == 6) cov(2, 2) = 0.01 * 0.01, cov(3, 3) = cov(4, 4) = 0.01 * 0.01;
@@ -101,17 +108,18 @@ void runBenchMcl(const BenchMclArgs& a) {
   std::vector<Pose> poses(ps.size());
   for (size_t i = 0; i < ps.size(); ++i) poses[i] = rig.sensors[0].worldPose(ps.pose(i));
   std::vector<float> range(poses.size() * beams.size());
-  caster.castScans(poses, beams, {range.data()});
+  weighing.castScans(poses, beams, {range.data()});
   double best = 0;
   for (int r = 0; r < 3; ++r) {
     const double s0 = now();
-    caster.castScans(poses, beams, {range.data()});
+    weighing.castScans(poses, beams, {range.data()});
     best = std::max(best, double(range.size()) / (now() - s0));
   }
   const MclEstimate e = loc.estimate();
   nlohmann::json j;
   j["map"] = a.map;
   j["model"] = a.model;
+  j["caster"] = weighing.name();
   j["model_setup_s"] = setup_s;
   j["particles"] = a.particles;
   j["beams"] = a.beams;
@@ -127,8 +135,8 @@ void runBenchMcl(const BenchMclArgs& a) {
   j["pos_err_m"] = std::hypot(e.pose.x() - truth.back().x(), e.pose.y() - truth.back().y());
   j["status"] = toString(e.status);
   if (a.json) return fmt::print("{}\n", j.dump());
-  fmt::print("map {}: model {}, {} particles x {} beams ({} used), dof {}, {} threads (model set-up {:.2f} s)\n",
-             a.map, a.model, a.particles, a.beams, used, a.dof, caster.threads(), setup_s);
+  fmt::print("map {}: model {} on {}, {} particles x {} beams ({} used), dof {}, {} threads (model set-up {:.2f} s)\n",
+             a.map, a.model, weighing.name(), a.particles, a.beams, used, a.dof, caster.threads(), setup_s);
   fmt::print("  MCL:       {:10.2f} updates/s  {:12.0f} rays/s\n", updates_per_s, mcl_rays_per_s);
   fmt::print("  castScans: {:12.0f} rays/s (same poses and beams, no windows); MCL / raycast = {:.3f}\n", best,
              mcl_rays_per_s / best);
@@ -149,6 +157,9 @@ void registerBenchMcl(CLI::App& bench) {
   addSeedOption(c, args->seed, "Seed")->capture_default_str();
   c.add_option("--model", args->model, "Measurement model (mcl.model)")->capture_default_str()->check(
       CLI::IsMember(sensorModelNames()));
+  c.add_option("--caster", args->caster, "Map representation the particles are weighed against (mcl.caster)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(casterNames()));
   c.add_flag("--json", args->json, "Print one JSON object on stdout");
   c.callback([args] { runBenchMcl(*args); });
 }

@@ -77,27 +77,12 @@ TEST(MclWeighing, ConfigErrorsNameTheKey) {
 // The filter weighs against a 5 cm grid sliced at the scanner's height and still tracks the loop
 // of the asymmetric room within a few centimetres (scans come from the exact mesh).
 TEST(MclWeighing, Grid2dFilterTracks) {
-  const Mesh mesh = asymmetricRoom();
-  EmbreeCaster exact(mesh);
-  const Rig rig = scannerRig();
-  MclConfig cfg;
-  cfg.particles = 1000;
-  cfg.caster = "grid2d";
-  const std::unique_ptr<RayCaster> grid = makeWeighingCaster(mesh, rig, cfg, 1);
-  ASSERT_NE(grid, nullptr);
-  EXPECT_EQ(grid->name(), "grid2d");
-  const auto truth = loopTrajectory(60);
-  Localizer loc(exact, mesh, rig, cfg, grid.get());
-  const Pose& t0 = truth[0];
-  loc.initPose(Pose::planar(t0.x() + 0.2, t0.y() - 0.15, t0.yaw() + deg2rad(5)), planarCov(0.25, 0.1), 0);
-  drive(loc, exact, rig, truth);
-  const MclEstimate e = loc.estimate();
-  const double pe = posErr(e.pose, truth.back()), ye = yawErrDeg(e.pose, truth.back());
-  std::printf("[mcl] grid2d weighing: pos err %.4f m, yaw err %.3f deg\n", pe, ye);
-  EXPECT_LT(pe, 0.08);
-  EXPECT_LT(ye, 3.0);
-  EXPECT_EQ(e.status, MclStatus::Tracking);
-  EXPECT_GT(e.updates, 40u);
+  const LoopRun r = trackLoopWeighingOn("grid2d");
+  EXPECT_EQ(r.weighed_by, "grid2d");
+  EXPECT_LT(r.pos_err, 0.08);
+  EXPECT_LT(r.yaw_err_deg, 3.0);
+  EXPECT_EQ(r.estimate.status, MclStatus::Tracking);
+  EXPECT_GT(r.estimate.updates, 40u);
 }
 
 // A sensor left out of mcl.sensors never moves the filter: garbage from it changes nothing.

@@ -40,6 +40,7 @@ Contract contractOf(const std::string& name) {
   if (name == "grid2d") return {0.051f, 0.05, true, true, 0.05, 0.075, 0.03};
   if (name == "distance3d") return {0.026f, 0.05, false, true, 0.05, 0.15, 0.03};
   if (name == "octomap") return {0.051f, 0.05, false, false, 0.10, 0.20, 0.03};
+  if (name == "gpu") return {1e-4f, 0.05, false, true, 1e-3, 1e-3, 0.001};  // float32 on a BVH
   ADD_FAILURE() << "no contract for the caster '" << name << "': add one here";
   return {};
 }

@@ -46,6 +46,7 @@ class GpuContext {
 
   const GpuInfo& info() const { return info_; }
   void makeCurrent() const;  // throws GpuError when the context is lost
+  void release() const;      // current on no thread (another thread may then make it current)
   // Throws GpuError naming `what` and the GL error, if one is pending.
   void check(const char* what) const;
 

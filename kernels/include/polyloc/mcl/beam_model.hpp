@@ -49,6 +49,7 @@ class BeamSensorModel : public SensorModel {
   // Reused between calls: no allocation once sizes settle.
   BeamSet beams_;
   std::vector<float> measured_, tmin_, tmax_, hits_, short_, miss_, hit_scale_, half_inv_var_, hit_table_, log_table_;
+  std::vector<double> sums_;
   std::vector<Pose> poses_;
 };
 

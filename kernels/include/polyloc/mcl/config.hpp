@@ -182,6 +182,11 @@ struct MclConfig {
   double caster_resolution = 0.05;  // m: cells / voxels / nodes of grid2d, distance3d, octomap
   // m above the floor where grid2d slices the map; NaN: the lowest level scanner the filter weighs
   double caster_height = std::numeric_limits<double>::quiet_NaN();
+  // caster gpu: the EGL platforms to try (surfaceless, device, default), and what happens when
+  // no GPU can be used or one fails while running: "none" = an error naming what is missing,
+  // "embree" = a warning, then the CPU caster.
+  std::string gpu_platforms = "surfaceless,device,default";
+  std::string gpu_fallback = "none";
   size_t particles = 2000;          // initial count (tracking)
   // KLD-sampling bounds. A tracking cloud occupies few KLD bins, so the lower bound is what it
   // gets: with scans a metre or two apart the prior spreads over 10 cm and 2 deg, and 500
