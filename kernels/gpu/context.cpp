@@ -7,6 +7,8 @@
 #include <fmt/core.h>
 
 #include <cstring>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <vector>
 
@@ -62,6 +64,26 @@ EGLDisplay openDisplay(const std::string& platform, const char* client_ext) {
   throw GpuError("gpu: unknown EGL platform '" + platform + "' (surfaceless, device or default)");
 }
 
+// EGL hands every context of a platform the same display, and eglTerminate ends it for all of
+// them: a display is terminated when its last context goes (casters of parallel relocalisation
+// jobs come and go independently).
+std::mutex display_mutex;
+std::map<EGLDisplay, int> display_users;
+
+bool initializeDisplay(EGLDisplay d, EGLint* major, EGLint* minor) {
+  std::lock_guard<std::mutex> lock(display_mutex);
+  if (!eglInitialize(d, major, minor)) return false;
+  ++display_users[d];
+  return true;
+}
+
+void releaseDisplay(EGLDisplay d) {
+  std::lock_guard<std::mutex> lock(display_mutex);
+  if (--display_users[d] > 0) return;
+  display_users.erase(d);
+  eglTerminate(d);
+}
+
 }  // namespace
 
 // Cleanup here, not in ~GpuContext: it must also run when the constructor throws after
@@ -73,7 +95,7 @@ struct GpuContext::Impl {
     if (display == EGL_NO_DISPLAY) return;
     eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-    eglTerminate(display);
+    releaseDisplay(display);
   }
 };
 
@@ -88,7 +110,7 @@ GpuContext::GpuContext(const GpuOptions& options) : impl_(std::make_unique<Impl>
       tried.push_back(p + ": not offered by this EGL");
       continue;
     }
-    if (!eglInitialize(d, &major, &minor)) {
+    if (!initializeDisplay(d, &major, &minor)) {
       tried.push_back(p + ": eglInitialize failed (" + eglErrorName(eglGetError()) + ")");
       continue;
     }

@@ -6,7 +6,7 @@
 #include <polyloc/raycast/octomap.hpp>
 
 #ifdef POLYLOC_HAVE_GPU
-#include <polyloc/gpu/caster.hpp>
+#include <polyloc/raycast/gpu.hpp>
 #endif
 
 #include <cstdio>

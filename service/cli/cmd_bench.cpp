@@ -12,7 +12,7 @@
 #include <polyloc/raycast/factory.hpp>
 #include <polyloc/raycast/workload.hpp>
 #ifdef POLYLOC_HAVE_GPU
-#include <polyloc/gpu/caster.hpp>
+#include <polyloc/raycast/gpu.hpp>
 #endif
 
 #include <fmt/core.h>

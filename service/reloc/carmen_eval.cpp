@@ -7,6 +7,7 @@
 #include <polyloc/geometry/random.hpp>
 #include <polyloc/io/memory_recording.hpp>
 #include <polyloc/mcl/fit_check.hpp>
+#include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
 #include <polyloc/io/recorded_geometry.hpp>
 
@@ -193,7 +194,9 @@ CarmenEvalResult runCarmenEval(const CarmenEvalOptions& o) {
     measureFloor(log, split, r.config.rig, caster, o, r);
     r.floor_s = since(t0);
   }
-  const JobContext ctx{r.config, r.mesh, caster, nullptr};
+  // mcl.caster weighs the particles (grid2d, gpu, ...); Embree keeps the floor and free space.
+  const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(r.mesh, r.config.rig, r.config.mcl, r.config.mcl.threads);
+  const JobContext ctx{r.config, r.mesh, caster, weigh.get()};
   for (const std::string& name : o.variants) {
     if (name == "drift") {
       r.variants.push_back(runVariant(drift_run, drift_messages, ctx, o));

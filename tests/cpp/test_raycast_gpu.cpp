@@ -1,11 +1,11 @@
-// The GPU ray caster (gpu/caster.hpp) on whatever EGL offers (Mesa llvmpipe in CI), beyond the
+// The GPU ray caster (raycast/gpu.hpp) on whatever EGL offers (Mesa llvmpipe in CI), beyond the
 // contract of every caster (test_raycast_conformance.cpp): the BVH holds every triangle once;
 // ranges agree with Embree's within 1 mm on >= 99.9% of random, windowed, grazing and edge rays
 // of the lab, misses too; labels and normals follow; bad rays miss; the beam model summed on the
 // GPU equals the CPU's; a filter weighing on the GPU tracks; and every error path.
 #ifdef POLYLOC_HAVE_GPU
 #include <polyloc/gpu/bvh.hpp>
-#include <polyloc/gpu/caster.hpp>
+#include <polyloc/raycast/gpu.hpp>
 #include <polyloc/config/yaml.hpp>
 #include <polyloc/map/load.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
@@ -23,6 +23,7 @@
 #include <functional>
 #include <random>
 #include <set>
+#include <thread>
 
 using namespace polyloc;
 using namespace polyloc::test;
@@ -316,6 +317,28 @@ TEST(GpuCaster, FilterWeighingOnTheGpuTracks) {
   EXPECT_LT(r.yaw_err_deg, 0.5);
   EXPECT_EQ(r.estimate.status, MclStatus::Tracking);
   EXPECT_GT(r.estimate.updates, 40u);
+}
+
+// Casters share EGL's display: one going does not end another's; any thread may call one.
+TEST(GpuCaster, CastersComeAndGoAndServeAnyThread) {
+  const Mesh room = boxRoom(2.f, 1.5f, 3.f, 0.2f);
+  const GpuCaster a(room);
+  const Eigen::Vector3f o(0.12f, 0.07f, 0.3f), d(1, 0, 0);
+  const RayBatch ray{&o.x(), &o.y(), &o.z(), &d.x(), &d.y(), &d.z(), nullptr, nullptr, 1};
+  {
+    const GpuCaster b(room);
+    float r = 0;
+    b.castRays(ray, {&r});
+    EXPECT_NEAR(r, 1.88f, 1e-4f);
+  }
+  std::vector<float> got(4, 0.f);
+  std::vector<std::thread> threads;
+  for (size_t i = 0; i < got.size(); ++i)
+    threads.emplace_back([&, i] {
+      for (int k = 0; k < 20; ++k) a.castRays(ray, {&got[i]});
+    });
+  for (auto& t : threads) t.join();
+  for (float r : got) EXPECT_NEAR(r, 1.88f, 1e-4f);
 }
 
 TEST(GpuCaster, ErrorsNameWhatIsMissing) {

@@ -1,6 +1,6 @@
 // The map's BVH (gpu/bvh.hpp) and the two walks over it every program shares: the closest hit
 // of a ray in a window, and whether any triangle lies nearer than r to a point. Prepended:
-// "#version 310 es" and the program's defines (gpu/caster.cpp).
+// "#version 310 es" and the program's defines (raycast/gpu.cpp).
 precision highp float;
 precision highp int;
 

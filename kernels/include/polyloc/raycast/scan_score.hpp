@@ -1,7 +1,7 @@
 // The beam model's sum over one pose's beams, as a plain function of the hit ranges and per-beam
 // terms, and the optional caster capability to evaluate it where the rays are cast: a GPU caster
 // casts poses x beams and sums per pose there, so only one number a pose comes back
-// (mcl/beam_model.cpp fills the terms; gpu/caster.cpp and scoreHits evaluate them alike).
+// (mcl/beam_model.cpp fills the terms; raycast/gpu.cpp and scoreHits evaluate them alike).
 #pragma once
 
 #include <polyloc/geometry/pose.hpp>

@@ -1,5 +1,5 @@
 #include <polyloc/gpu/bvh.hpp>
-#include <polyloc/gpu/caster.hpp>
+#include <polyloc/raycast/gpu.hpp>
 #include <polyloc/gpu/compute.hpp>
 #include <polyloc/raycast/embree.hpp>
 
