@@ -52,6 +52,11 @@ struct GpuCaster::Impl {
   int batches = 0;
   std::unique_ptr<EmbreeCaster> fallback;
   std::mutex mu;
+  // Host-side staging, reused between calls (calls are serialised by mu): no allocation per
+  // batch once sizes settle, as the RayCaster contract asks.
+  std::vector<float> stage0, stage1;
+  std::vector<uint32_t> readback;
+  std::vector<uint8_t> bad;
 
   void ensure(std::unique_ptr<StorageBuffer>& b, size_t bytes) {
     if (b && b->size() >= bytes) return;
@@ -77,7 +82,8 @@ struct GpuCaster::Impl {
 
   // Beams as the scan program reads them: (d, t0), (t1, 0, 0, 0), windows merged with the limits.
   void uploadBeams(const BeamSet& beams, const ScanWindow& w) {
-    std::vector<float> b(8 * beams.size(), 0.f);
+    std::vector<float>& b = stage1;
+    b.assign(8 * beams.size(), 0.f);
     for (size_t i = 0; i < beams.size(); ++i) {
       const float t0 = w.tmin ? std::max(beams.range_min, w.tmin[i]) : beams.range_min;
       const float t1 = w.tmax ? std::min(beams.range_max, w.tmax[i]) : beams.range_max;
@@ -92,8 +98,9 @@ struct GpuCaster::Impl {
 
   // Poses [p0, p1) as three rows (R | t); a pose out of any sane domain is traced at the origin
   // and its rays are overwritten as misses afterwards (bad[]).
-  void uploadPoses(std::span<const Pose> poses, size_t p0, size_t p1, std::vector<uint8_t>& bad) {
-    std::vector<float> rows(12 * (p1 - p0));
+  void uploadPoses(std::span<const Pose> poses, size_t p0, size_t p1) {
+    std::vector<float>& rows = stage0;
+    rows.resize(12 * (p1 - p0));
     bad.assign(p1 - p0, 0);
     for (size_t p = p0; p < p1; ++p) {
       const Eigen::Matrix3f R = poses[p].rotation().toRotationMatrix().cast<float>();
@@ -111,10 +118,9 @@ struct GpuCaster::Impl {
   }
 
   // Casts poses [p0, p1) x the uploaded beams into `hits` (left on the GPU); returns the rays.
-  size_t castChunk(std::span<const Pose> poses, size_t p0, size_t p1, size_t nb, const CastOptions& o,
-                   std::vector<uint8_t>& bad) {
+  size_t castChunk(std::span<const Pose> poses, size_t p0, size_t p1, size_t nb, const CastOptions& o) {
     const size_t n = (p1 - p0) * nb;
-    uploadPoses(poses, p0, p1, bad);
+    uploadPoses(poses, p0, p1);
     ensure(hits, n * 8);
     useCast(*scans, n, o);
     scans->set("beams", uint32_t(nb));
@@ -236,10 +242,10 @@ void GpuCaster::castScans(std::span<const Pose> poses, const BeamSet& beams, con
       [&] {
         m.uploadBeams(beams, window);
         const size_t chunk = std::max<size_t>(1, m.opt.batch_rays / nb);
-        std::vector<uint8_t> bad;
-        std::vector<uint32_t> h;
+        const std::vector<uint8_t>& bad = m.bad;
+        std::vector<uint32_t>& h = m.readback;
         for (size_t p0 = 0; p0 < poses.size(); p0 += chunk) {
-          const size_t p1 = std::min(poses.size(), p0 + chunk), n = m.castChunk(poses, p0, p1, nb, opt, bad);
+          const size_t p1 = std::min(poses.size(), p0 + chunk), n = m.castChunk(poses, p0, p1, nb, opt);
           h.resize(2 * n);
           m.hits->download(h.data(), n * 8);
           for (size_t p = p0; p < p1; ++p)
@@ -260,16 +266,18 @@ void GpuCaster::castRays(const RayBatch& r, const HitBuffers& out) const {
   const CastOptions opt = options;
   m.run(
       [&] {
-        std::vector<float> o, d;
-        std::vector<uint32_t> h;
+        std::vector<float>&o = m.stage0, &d = m.stage1;
+        std::vector<uint32_t>& h = m.readback;
+        std::vector<uint8_t>& bad = m.bad;
         for (size_t i0 = 0; i0 < r.count; i0 += m.opt.batch_rays) {
           const size_t n = std::min(r.count - i0, m.opt.batch_rays);
-          o.assign(4 * n, 0.f), d.assign(4 * n, 0.f);
+          o.assign(4 * n, 0.f), d.assign(4 * n, 0.f), bad.assign(n, 0);
           for (size_t k = 0; k < n; ++k) {
             const size_t i = i0 + k;
             const float t0 = r.tmin ? r.tmin[i] : 0.f, t1 = r.tmax ? r.tmax[i] : kInf;
             const bool ok = sane(Eigen::Vector3f(r.ox[i], r.oy[i], r.oz[i])) &&
                             sane(Eigen::Vector3f(r.dx[i], r.dy[i], r.dz[i])) && t0 <= t1;
+            bad[k] = !ok;
             o[4 * k] = ok ? r.ox[i] : 0.f, o[4 * k + 1] = ok ? r.oy[i] : 0.f, o[4 * k + 2] = ok ? r.oz[i] : 0.f;
             d[4 * k] = ok ? r.dx[i] : 1.f, d[4 * k + 1] = ok ? r.dy[i] : 0.f, d[4 * k + 2] = ok ? r.dz[i] : 0.f;
             o[4 * k + 3] = ok ? t0 : 1.f, d[4 * k + 3] = ok ? t1 : 0.f;  // an empty window misses
@@ -286,7 +294,7 @@ void GpuCaster::castRays(const RayBatch& r, const HitBuffers& out) const {
           m.finish(out, i0, h, n);
           // A ray out of any domain, or with a NaN window, is a miss (its own window end).
           for (size_t k = 0; k < n; ++k)
-            if (d[4 * k + 3] == 0.f && o[4 * k + 3] == 1.f && h[2 * k + 1] == kNoHit) {
+            if (bad[k]) {
               const float t1 = r.tmax ? r.tmax[i0 + k] : kInf;
               out.range[i0 + k] = opt.miss_is_max_range ? t1 : kInf;
             }
@@ -303,8 +311,8 @@ void GpuCaster::queryFree(std::span<const Eigen::Vector3f> points, float clearan
   if (points.empty()) return;
   m.run(
       [&] {
-        std::vector<float> p;
-        std::vector<uint32_t> f;
+        std::vector<float>& p = m.stage0;
+        std::vector<uint32_t>& f = m.readback;
         for (size_t i0 = 0; i0 < points.size(); i0 += m.opt.batch_rays) {
           const size_t n = std::min(points.size() - i0, m.opt.batch_rays);
           p.assign(4 * n, 0.f);
@@ -352,11 +360,11 @@ void GpuCaster::scoreScans(std::span<const Pose> poses, const BeamSet& beams, co
         m.ensure(m.tables, tables.size() * sizeof(float));
         m.tables->upload(tables.data(), tables.size() * sizeof(float));
         const size_t chunk = std::max<size_t>(1, m.opt.batch_rays / nb);
-        std::vector<uint8_t> bad;
+        const std::vector<uint8_t>& bad = m.bad;
         std::vector<float> f;
         for (size_t p0 = 0; p0 < poses.size(); p0 += chunk) {
           const size_t p1 = std::min(poses.size(), p0 + chunk), np = p1 - p0;
-          m.castChunk(poses, p0, p1, nb, opt, bad);
+          m.castChunk(poses, p0, p1, nb, opt);
           m.ensure(m.sums, np * sizeof(float));
           m.score->use();
           m.score->set("poses", uint32_t(np));
