@@ -5,6 +5,7 @@
 #include "shm/channel.hpp"
 #include "shm/segment.hpp"
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -332,6 +333,33 @@ int polyloc_write_odometry(polyloc_client* c, int channel, int64_t stamp_ns, con
     w.write(&o, sizeof o, stamp_ns);
     return POLYLOC_OK;
   });
+}
+
+int polyloc_write_command(polyloc_client* c, int channel, int64_t stamp_ns, double vx, double vy, double wz,
+                          uint32_t nav_state, uint32_t goal, const char* status) {
+  return guarded([&]() -> int {
+    const char* fn = "polyloc_write_command";
+    const double v[3] = {vx, vy, wz};
+    static const char* names[3] = {"vx", "vy", "wz"};
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(v[i]) || std::fabs(v[i]) > 100.0)
+        raise(POLYLOC_ERR_ARGUMENT, std::string(fn) + ": " + names[i] + " = " + std::to_string(v[i]) + " is not within +-100");
+    if (nav_state > POLYLOC_NAV_FAILED)
+      raise(POLYLOC_ERR_ARGUMENT, std::string(fn) + ": nav_state " + std::to_string(nav_state) + " is not a POLYLOC_NAV_* value");
+    Writer& w = writerOf(c, channel, POLYLOC_KIND_COMMAND, fn);
+    polyloc_command m{};
+    m.stamp_ns = stamp_ns;
+    m.vx = vx, m.vy = vy, m.wz = wz;
+    m.nav_state = nav_state;
+    m.goal = goal;
+    if (status) std::strncpy(m.status, status, sizeof m.status - 1);
+    w.write(&m, sizeof m, stamp_ns);
+    return POLYLOC_OK;
+  });
+}
+
+int polyloc_read_command(polyloc_client* c, polyloc_command* out, polyloc_frame_info* info) {
+  return guarded([&]() -> int { return readStruct(c, "cmd_vel", POLYLOC_KIND_COMMAND, true, out, info, "polyloc_read_command"); });
 }
 
 int polyloc_read_pose(polyloc_client* c, polyloc_pose* out, polyloc_frame_info* info) {

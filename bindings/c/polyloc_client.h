@@ -99,6 +99,11 @@ POLYLOC_API int polyloc_write_depth(polyloc_client* c, int channel, int64_t stam
 /* Odometry: pose = x y z qw qx qy qz (odom_T_base); twist = vx vy wz, or NULL for zeros. */
 POLYLOC_API int polyloc_write_odometry(polyloc_client* c, int channel, int64_t stamp_ns, const double pose[7],
                                        const double twist[3]);
+/* A controller's velocity command on "cmd_vel" (base_link: vx, vy m/s, wz rad/s), with its mission
+ * state (POLYLOC_NAV_*), goal number and a status line (NULL: ""; cut at 63 bytes). A value that is
+ * not finite or beyond +-100, or a nav_state above POLYLOC_NAV_FAILED: POLYLOC_ERR_ARGUMENT, nothing written. */
+POLYLOC_API int polyloc_write_command(polyloc_client* c, int channel, int64_t stamp_ns, double vx, double vy,
+                                      double wz, uint32_t nav_state, uint32_t goal, const char* status);
 
 /* Reading output channels. "read" gives the newest frame (again, if nothing newer came);
  * "next" the oldest frame not yet read through this handle (POLYLOC_NO_DATA when none: call
@@ -111,6 +116,8 @@ POLYLOC_API int polyloc_read_vrs(polyloc_client* c, polyloc_vrs* out, float* ran
                                  uint32_t* count, polyloc_frame_info* info);
 POLYLOC_API int polyloc_read_tracks(polyloc_client* c, polyloc_tracks* out, polyloc_frame_info* info);
 POLYLOC_API int polyloc_read_health(polyloc_client* c, polyloc_health* out, polyloc_frame_info* info);
+/* The newest command on "cmd_vel" (a base driver's or a monitor's read). */
+POLYLOC_API int polyloc_read_command(polyloc_client* c, polyloc_command* out, polyloc_frame_info* info);
 /* Any channel, raw payload bytes (the payload structs of polyloc_shm.h): newest or next. */
 POLYLOC_API int polyloc_read_newest(polyloc_client* c, int channel, void* buf, uint32_t capacity,
                                     polyloc_frame_info* info);

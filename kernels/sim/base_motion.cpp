@@ -34,6 +34,14 @@ BaseMotion::BaseMotion(Kinematics k, const BaseLimits& limits, const Pose& start
   pose_ = Pose::planar(x_, y_, yaw_);
 }
 
+void BaseMotion::place(const Pose& p) {
+  if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.yaw()))
+    throw std::invalid_argument(fmt::format("BaseMotion::place: pose ({}, {}, yaw {}) is not finite", p.x(), p.y(), p.yaw()));
+  x_ = p.x(), y_ = p.y();
+  yaw_ += std::remainder(p.yaw() - yaw_, 2 * M_PI);  // stays unwrapped
+  pose_ = Pose::planar(x_, y_, yaw_);
+}
+
 bool BaseMotion::command(const VelocityCommand& c, std::string* why) {
   auto reject = [&](std::string msg) {
     ++counters_.rejected;

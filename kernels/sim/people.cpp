@@ -70,7 +70,8 @@ PersonState People::state(size_t i, double t, const Eigen::Vector2d& robot) cons
   if (t < s.start || t >= s.end) return st;
   st.present = true;
   st.z = s.z;
-  const double walked = s.offset + s.speed * (t - s.start);
+  // A person who waited for the robot (setDelays) is that much behind on their way.
+  const double walked = s.offset + s.speed * std::max(0.0, t - s.start - (i < delays_.size() ? delays_[i] : 0.0));
   if (s.circle) {
     const Eigen::Vector2d c = s.around_robot ? robot : s.centre;
     const double a = walked / s.radius;

@@ -353,6 +353,25 @@ Scenario loadScenarioAt(const std::string& path, int depth) {
   // Per-sensor noise belongs to the rig: a new rig gets its own noise section (or the defaults).
   if (!derived || m.has("noise") || m.has("rig") || m.has("config")) s.noise = parseNoise(m.map("noise"), s.config.rig);
   if (!derived || m.has("odometry")) s.odometry = parseOdometry(m.map("odometry"));
+  if (m.has("navigation")) {
+    ConfigMap n = m.map("navigation");
+    NavigationSpec nav;
+    nav.zones = n.getPath("zones", "");
+    if (n.has("goals"))
+      for (const ConfigValue& g : n.value("goals").items()) nav.goals.push_back(g.asString());
+    nav.mission_timeout = n.getDouble("mission_timeout", nav.mission_timeout, 1.0, 1e5);
+    nav.start_yaw = n.getAngle("start_yaw", nav.start_yaw);
+    if (n.has("vrs_sources"))
+      for (const ConfigValue& v : n.value("vrs_sources").items()) {
+        ConfigMap e = v.asMap();
+        const std::string sensor = e.getString("sensor", "");
+        if (sensor.empty()) e.fail("missing key 'sensor'");
+        nav.vrs_sources.emplace_back(sensor, e.getChoice("mode", "direct", {"direct", "memory", "both", "off"}));
+        e.finish();
+      }
+    n.finish();
+    s.navigation = nav;
+  }
   m.finish();
   return s;
 }

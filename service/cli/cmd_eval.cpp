@@ -143,6 +143,7 @@ void registerEval(CLI::App& app) {
   registerEvalTracking(eval);
   registerEvalDepth(eval);
   registerEvalCarmen(eval);
+  registerEvalNav(eval);
 }
 
 }  // namespace polyloc::cli

@@ -10,6 +10,7 @@
 #include "reloc/report.hpp"
 #include "cli/play_feed.hpp"
 #include "cli/play_source.hpp"
+#include "cli/play_drive.hpp"
 #include "viz/localize_plot.hpp"
 
 #include <polyloc/eval/stats.hpp>
@@ -31,11 +32,17 @@ using Clock = std::chrono::steady_clock;
 
 struct PlayArgs {
   std::string input, scenario, shm, plot, map;
-  double rate = 1.0, duration = 0, wait = 10;
-  bool json = false, quiet = false, loop = false;
+  double rate = 1.0, duration = 0, wait = 10, command_latency = 0.05;
+  bool json = false, quiet = false, loop = false, drive = false;
 };
 
 void runPlay(const PlayArgs& a) {
+  if (a.drive) {
+    if (a.scenario.empty()) throw std::runtime_error("--drive needs --scenario FILE (a recording cannot be driven)");
+    if (a.loop || !a.plot.empty()) throw std::runtime_error("--drive does not take --loop or --plot");
+    runPlayDrive({a.scenario, a.shm, a.rate, a.duration, a.wait, a.command_latency, a.json, a.quiet});
+    return;
+  }
   if (a.input.empty() == a.scenario.empty()) throw std::runtime_error("give --input RUN or --scenario FILE (one of them)");
   if (!(a.rate > 0)) throw std::runtime_error("--rate must be > 0");
   checkOutputs({{"--input", a.input}, {"--scenario", a.scenario}, {"--map", a.map}}, {{"--plot", a.plot}});
@@ -140,6 +147,11 @@ void registerPlay(CLI::App& app) {
   c->add_option("--wait", a->wait, "s to wait for polylocd's segment to appear")->capture_default_str()->check(finiteRange(0.0, 3600.0));
   c->add_option("--plot", a->plot, "PNG of map, ground truth and the poses polylocd published");
   addMapOption(*c, a->map, "Mesh for --plot when playing a recording");
+  c->add_flag("--drive", a->drive, "Closed loop: the robot executes the velocity commands on polylocd's cmd_vel channel "
+                                    "instead of the scenario's route, in lockstep with polylocd and the controller "
+                                    "(polylocd needs `clock: source` unless --rate 1; docs/navigation.md)");
+  c->add_option("--command-latency", a->command_latency, "s from a command's stamp to the base acting on it (--drive)")
+      ->capture_default_str()->check(finiteRange(0.0, 1.0));
   c->add_flag("--loop", a->loop, "Start the source again at its end, until --duration (soak tests)");
   c->add_flag("--quiet", a->quiet, "No status line");
   c->add_flag("--json", a->json, "Summary as one JSON object on stdout");

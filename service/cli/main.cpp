@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   polyloc::cli::registerMapInfo(map);
   polyloc::cli::registerMapGenerate(map);
   polyloc::cli::registerMapExtrude(map);
+  polyloc::cli::registerMapNavgrid(map);
   polyloc::cli::registerBench(app);
   polyloc::cli::registerDemo(app);
   polyloc::cli::registerInfo(app);

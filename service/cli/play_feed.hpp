@@ -47,6 +47,7 @@ class PlayFeed {
   void poll();         // reads new poses and health
   void finish();       // flushes pending depth frames, waits briefly for the last outputs
   void countLate() { ++r_.late; }
+  int64_t baseNs() const { return base_ns_; }  // CLOCK_REALTIME the source's first stamp is moved to
   std::string statusLine(double t_s, double span_s) const;
   PlayResult result() const;
   nlohmann::json resultJson() const;

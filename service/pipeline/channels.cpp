@@ -32,6 +32,9 @@ ChannelTable channelTable(const Rig& rig, const VrsConfig& vrs, uint32_t slots) 
   t.inputs.push_back(t.odom);
   if (t.inputs.size() > POLYLOC_MAX_INPUTS)
     throw std::invalid_argument(fmt::format("rig '{}' has {} sensors; polylocd takes at most {}", rig.name, rig.size(), POLYLOC_MAX_INPUTS - 1));
+  // The controller's commands for the base: hosted here (one segment for the robot), never read
+  // by polylocd, so not among its inputs (no health entry, no silence warning without a controller).
+  t.command = add({.name = "cmd_vel", .kind = POLYLOC_KIND_COMMAND, .direction = POLYLOC_DIR_INPUT, .slot_count = slots});
   t.pose = add({.name = "pose", .kind = POLYLOC_KIND_POSE, .direction = POLYLOC_DIR_OUTPUT, .slot_count = slots});
   t.vrs = add({.name = "vrs", .kind = POLYLOC_KIND_VRS, .direction = POLYLOC_DIR_OUTPUT, .slot_count = slots,
                .count = uint32_t(vrs.segments())});

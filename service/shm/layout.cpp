@@ -12,6 +12,7 @@ uint32_t payloadSize(const ChannelSpec& s) {
     // Capacity for depth and amplitude: the writer decides per frame whether amplitude follows.
     case POLYLOC_KIND_DEPTH: bytes = offsetof(polyloc_depth, data) + 2 * pixels * sizeof(float); break;
     case POLYLOC_KIND_ODOMETRY: bytes = sizeof(polyloc_odometry); break;
+    case POLYLOC_KIND_COMMAND: bytes = sizeof(polyloc_command); break;
     case POLYLOC_KIND_POSE: bytes = sizeof(polyloc_pose); break;
     case POLYLOC_KIND_VRS: bytes = offsetof(polyloc_vrs, ranges) + uint64_t{s.count} * sizeof(float); break;
     case POLYLOC_KIND_TRACKS: bytes = sizeof(polyloc_tracks); break;

@@ -49,6 +49,7 @@ static_assert(offsetof(polyloc_ranges, count) == 8 && offsetof(polyloc_ranges, r
 static_assert(offsetof(polyloc_depth, width) == 8 && offsetof(polyloc_depth, height) == 12);
 static_assert(offsetof(polyloc_depth, has_amplitude) == 16 && offsetof(polyloc_depth, data) == 24);
 static_assert(sizeof(polyloc_odometry) == 88 && offsetof(polyloc_odometry, qw) == 32 && offsetof(polyloc_odometry, vx) == 64);
+static_assert(sizeof(polyloc_command) == 104 && offsetof(polyloc_command, nav_state) == 32 && offsetof(polyloc_command, status) == 40);
 static_assert(sizeof(polyloc_pose) == 440 && offsetof(polyloc_pose, covariance) == 64);
 static_assert(offsetof(polyloc_pose, map_odom) == 352 && offsetof(polyloc_pose, status) == 408);
 static_assert(offsetof(polyloc_pose, ess) == 416 && offsetof(polyloc_pose, latency_ns) == 432);

@@ -81,6 +81,21 @@ Validation odometry(const Check& c, const uint8_t* p, size_t bytes) {
   return {};
 }
 
+// Commands drive a base: what no base could execute (100 m/s) is out of domain, not clamped.
+Validation command(const Check& c, const uint8_t* p, size_t bytes) {
+  if (bytes != sizeof(polyloc_command))
+    return c.fail(Reject::Size, str(bytes) + " bytes, expected " + str(sizeof(polyloc_command)) + " for a command");
+  const auto m = field<polyloc_command>(p, 0);
+  const double v[3] = {m.vx, m.vy, m.wz};
+  static const char* names[3] = {"vx", "vy", "wz"};
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(v[i]) || std::fabs(v[i]) > 100.0)
+      return c.fail(Reject::NaN, std::string(names[i]) + " is " + std::to_string(v[i]) + ": not within +-100");
+  if (m.nav_state > POLYLOC_NAV_FAILED) return c.fail(Reject::NaN, "nav_state " + str(m.nav_state) + ", expected 0..3");
+  if (std::memchr(m.status, 0, sizeof m.status) == nullptr) return c.fail(Reject::Size, "status is not NUL-terminated");
+  return {};
+}
+
 // a < b - d and a > b + d without overflowing int64.
 bool olderThan(int64_t a, int64_t b, int64_t d) { return static_cast<__int128>(a) < static_cast<__int128>(b) - d; }
 bool laterThan(int64_t a, int64_t b, int64_t d) { return static_cast<__int128>(a) > static_cast<__int128>(b) + d; }
@@ -125,6 +140,7 @@ Validation validateInput(const polyloc_channel_desc& channel, uint64_t frame, co
     case POLYLOC_KIND_RANGES: v = ranges(c, payload, bytes); break;
     case POLYLOC_KIND_DEPTH: v = depth(c, payload, bytes); break;
     case POLYLOC_KIND_ODOMETRY: v = odometry(c, payload, bytes); break;
+    case POLYLOC_KIND_COMMAND: v = command(c, payload, bytes); break;
     default: return c.fail(Reject::Size, "kind " + str(channel.kind) + " is not an input kind");
   }
   if (!v) return v;

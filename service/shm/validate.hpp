@@ -31,7 +31,8 @@ struct Validation {
 // RANGES: count == channel count (any count when the channel's is 0), size exact; a frame whose
 // ranges are all NaN or inf is Reject::NaN (single invalid beams are normal: no return). DEPTH: width/height == channel's, size exact
 // for has_amplitude 0/1. ODOMETRY: size exact, pose finite, quaternion norm within 1e-3 of 1
-// (a non-unit quaternion is Reject::NaN too: a number out of its domain). A size field beyond
+// (a non-unit quaternion is Reject::NaN too: a number out of its domain). COMMAND: size exact,
+// vx vy wz finite within +-100, nav_state 0..3, status NUL-terminated. A size field beyond
 // the channel's payload_max is Reject::Size before any byte is read; only `bytes` bytes are
 // read otherwise. Then the stamp rules on the payload's stamp_ns (a non-increasing stamp is Stale).
 Validation validateInput(const polyloc_channel_desc& channel, uint64_t frame, const uint8_t* payload,

@@ -155,6 +155,53 @@ TEST(ShmCAbi, WritesInputsAndReadsOutputs) {
   EXPECT_EQ(seg.ring(scan)->writer_pid, 0);   // detach released the writer roles
 }
 
+TEST(ShmCAbi, CommandsForTheBase) {
+  test::ShmName name;
+  std::vector<shm::ChannelSpec> specs = test::rigChannels();
+  specs.push_back(test::spec("cmd_vel", POLYLOC_KIND_COMMAND, POLYLOC_DIR_INPUT, 8));
+  auto seg = Segment::create(name, specs);
+  seg.ready();
+  polyloc_client *ctl = nullptr, *base = nullptr;
+  ASSERT_EQ(polyloc_attach(name.str().c_str(), &ctl), POLYLOC_OK);
+  ASSERT_EQ(polyloc_attach(name.str().c_str(), &base), POLYLOC_OK);
+  const int cmd = polyloc_channel(ctl, "cmd_vel");
+  ASSERT_GE(cmd, 0);
+  polyloc_command got;
+  polyloc_frame_info info;
+  EXPECT_EQ(polyloc_read_command(base, &got, &info), POLYLOC_NO_DATA);
+  ASSERT_EQ(polyloc_write_command(ctl, cmd, 1000, 0.4, 0.0, -0.25, POLYLOC_NAV_DRIVING, 3, "lab 1: passing door 'lab 1'"),
+            POLYLOC_OK) << lastError();
+  ASSERT_EQ(polyloc_read_command(base, &got, &info), POLYLOC_OK) << lastError();
+  EXPECT_EQ(got.stamp_ns, 1000);
+  EXPECT_EQ(info.stamp_ns, 1000);
+  EXPECT_DOUBLE_EQ(got.vx, 0.4);
+  EXPECT_DOUBLE_EQ(got.wz, -0.25);
+  EXPECT_EQ(got.nav_state, uint32_t(POLYLOC_NAV_DRIVING));
+  EXPECT_EQ(got.goal, 3u);
+  EXPECT_STREQ(got.status, "lab 1: passing door 'lab 1'");
+  // A status line longer than the field is cut, NUL-terminated.
+  const std::string longer(200, 's');
+  ASSERT_EQ(polyloc_write_command(ctl, cmd, 2000, 0, 0, 0, POLYLOC_NAV_REACHED, 3, longer.c_str()), POLYLOC_OK);
+  ASSERT_EQ(polyloc_read_command(base, &got, nullptr), POLYLOC_OK);
+  EXPECT_EQ(std::string(got.status), std::string(63, 's'));
+  ASSERT_EQ(polyloc_write_command(ctl, cmd, 3000, 0, 0, 0, POLYLOC_NAV_IDLE, 0, nullptr), POLYLOC_OK);
+  ASSERT_EQ(polyloc_read_command(base, &got, nullptr), POLYLOC_OK);
+  EXPECT_STREQ(got.status, "");
+  // Out of domain: refused before anything is written, the field named.
+  EXPECT_EQ(polyloc_write_command(ctl, cmd, 4000, std::nan(""), 0, 0, 1, 0, ""), POLYLOC_ERR_ARGUMENT);
+  EXPECT_NE(lastError().find("vx = nan"), std::string::npos) << lastError();
+  EXPECT_EQ(polyloc_write_command(ctl, cmd, 4000, 0, 0, 1e19, 1, 0, ""), POLYLOC_ERR_ARGUMENT);
+  EXPECT_NE(lastError().find("wz = "), std::string::npos) << lastError();
+  EXPECT_EQ(polyloc_write_command(ctl, cmd, 4000, 0, 0, 0, 9, 0, ""), POLYLOC_ERR_ARGUMENT);
+  EXPECT_NE(lastError().find("nav_state 9"), std::string::npos) << lastError();
+  ASSERT_EQ(polyloc_read_command(base, &got, &info), POLYLOC_OK);
+  EXPECT_EQ(got.stamp_ns, 3000) << "a refused command must not be written";
+  // Not the command channel.
+  EXPECT_EQ(polyloc_write_command(ctl, polyloc_channel(ctl, "odom"), 5000, 0, 0, 0, 1, 0, ""), POLYLOC_ERR_KIND);
+  polyloc_detach(ctl);
+  polyloc_detach(base);
+}
+
 TEST(ShmCAbi, BusyWriterRoleStaleAndReattach) {
   test::ShmName name;
   auto seg = std::make_unique<Segment>(Segment::create(name, test::rigChannels()));

@@ -54,6 +54,8 @@ const std::vector<Field>& abiFields() {
       Field{"polyloc_depth", "data", offsetof(polyloc_depth, data), 0},
       POLYLOC_FIELD(polyloc_odometry, stamp_ns), POLYLOC_FIELD(polyloc_odometry, x), POLYLOC_FIELD(polyloc_odometry, qw),
       POLYLOC_FIELD(polyloc_odometry, vx),
+      POLYLOC_FIELD(polyloc_command, stamp_ns), POLYLOC_FIELD(polyloc_command, vx), POLYLOC_FIELD(polyloc_command, nav_state),
+      POLYLOC_FIELD(polyloc_command, goal), POLYLOC_FIELD(polyloc_command, status),
       POLYLOC_FIELD(polyloc_pose, stamp_ns), POLYLOC_FIELD(polyloc_pose, x), POLYLOC_FIELD(polyloc_pose, qw),
       POLYLOC_FIELD(polyloc_pose, covariance), POLYLOC_FIELD(polyloc_pose, map_odom), POLYLOC_FIELD(polyloc_pose, status),
       POLYLOC_FIELD(polyloc_pose, particles), POLYLOC_FIELD(polyloc_pose, ess), POLYLOC_FIELD(polyloc_pose, updates),
@@ -84,6 +86,7 @@ const std::map<std::string, size_t>& abiSizes() {
       {"polyloc_shm_header", sizeof(polyloc_shm_header)}, {"polyloc_channel_desc", sizeof(polyloc_channel_desc)},
       {"polyloc_ring_control", sizeof(polyloc_ring_control)}, {"polyloc_slot_header", sizeof(polyloc_slot_header)},
       {"polyloc_odometry", sizeof(polyloc_odometry)}, {"polyloc_pose", sizeof(polyloc_pose)},
+      {"polyloc_command", sizeof(polyloc_command)},
       {"polyloc_tracks", sizeof(polyloc_tracks)}, {"polyloc_health", sizeof(polyloc_health)},
       {"polyloc_track", sizeof(polyloc_track)}, {"polyloc_input_health", sizeof(polyloc_input_health)}};
   return sizes;
@@ -117,7 +120,7 @@ TEST(ShmLayout, TheDocumentedLayoutIsTheCompiledOne) {
   std::set<std::string> documented;
   size_t rows = 0, payload_refs = 0;
   const std::regex heading(R"(^### .*\(`(polyloc_[a-z_]+)`, (\d+) bytes\))"), payload_ref(R"(`([a-z_0-9]+)(\[[^\]]*\])?` \((\d+)[,):])");
-  const std::set<std::string> payloads{"polyloc_ranges", "polyloc_depth", "polyloc_odometry", "polyloc_pose",
+  const std::set<std::string> payloads{"polyloc_ranges", "polyloc_depth", "polyloc_odometry", "polyloc_command", "polyloc_pose",
                                        "polyloc_vrs", "polyloc_tracks", "polyloc_health"};
   std::smatch m;
   while (std::getline(in, line)) {
@@ -176,7 +179,7 @@ TEST(ShmLayout, TheDocumentedLayoutIsTheCompiledOne) {
     }
   }
   EXPECT_EQ(rows, 13u + 11u + 5u + 6u) << "rows of the header, channel, ring and slot tables";
-  EXPECT_GE(payload_refs, 19u);  // as many as the payload table pins today
+  EXPECT_GE(payload_refs, 23u);  // as many as the payload table pins today
   for (const Field& f : abiFields())
     if (f.type == "polyloc_shm_header" || f.type == "polyloc_channel_desc" || f.type == "polyloc_ring_control" ||
         f.type == "polyloc_slot_header")
@@ -188,6 +191,7 @@ TEST(ShmLayout, PayloadSizePerKind) {
   EXPECT_EQ(shm::payloadSize(spec("s", POLYLOC_KIND_RANGES, 0, 8, 541)), 16u + 541 * 4);
   EXPECT_EQ(shm::payloadSize(spec("d", POLYLOC_KIND_DEPTH, 0, 8, 0, 64, 50)), 24u + 2 * 64 * 50 * 4);
   EXPECT_EQ(shm::payloadSize(spec("o", POLYLOC_KIND_ODOMETRY, 0)), 88u);
+  EXPECT_EQ(shm::payloadSize(spec("c", POLYLOC_KIND_COMMAND, 0)), 104u);
   EXPECT_EQ(shm::payloadSize(spec("p", POLYLOC_KIND_POSE, 1)), 440u);
   EXPECT_EQ(shm::payloadSize(spec("v", POLYLOC_KIND_VRS, 1, 8, 360)), 32u + 360 * 4);
   EXPECT_EQ(shm::payloadSize(spec("t", POLYLOC_KIND_TRACKS, 1)), 4624u);

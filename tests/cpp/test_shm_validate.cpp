@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace polyloc {
@@ -158,6 +159,35 @@ TEST(ShmValidate, OutputKindIsNotAnInput) {
   polyloc_pose p{};
   expectReject(shm::validateInput(d, 1, reinterpret_cast<const uint8_t*>(&p), sizeof p, rules()), Reject::Size,
                "pose frame 1: kind 10 is not an input kind");
+}
+
+TEST(ShmValidate, Commands) {
+  const polyloc_channel_desc d = desc("cmd_vel", POLYLOC_KIND_COMMAND, 0);
+  polyloc_command c{};
+  c.stamp_ns = kNow;
+  c.vx = 0.4, c.wz = -0.2;
+  c.nav_state = POLYLOC_NAV_DRIVING;
+  std::snprintf(c.status, sizeof c.status, "%s", "lab 1: passing the door");
+  auto check = [&](const polyloc_command& m, size_t bytes = sizeof(polyloc_command)) {
+    return shm::validateInput(d, 3, reinterpret_cast<const uint8_t*>(&m), bytes, rules());
+  };
+  EXPECT_TRUE(check(c)) << check(c).why;
+  expectReject(check(c, 96), Reject::Size, "cmd_vel frame 3: 96 bytes, expected 104 for a command");
+  polyloc_command bad = c;
+  bad.vx = std::nan("");
+  expectReject(check(bad), Reject::NaN, "vx is nan");
+  bad = c;
+  bad.wz = 1e19;  // finite, but no base turns at that
+  expectReject(check(bad), Reject::NaN, "wz is 10000000000000000000");
+  bad = c;
+  bad.nav_state = 7;
+  expectReject(check(bad), Reject::NaN, "nav_state 7, expected 0..3");
+  bad = c;
+  std::memset(bad.status, 'x', sizeof bad.status);
+  expectReject(check(bad), Reject::Size, "status is not NUL-terminated");
+  bad = c;
+  bad.stamp_ns = kNow - 2'000'000'000;
+  expectReject(check(bad), Reject::Stale, "ms old");
 }
 
 }  // namespace

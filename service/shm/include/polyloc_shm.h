@@ -39,6 +39,7 @@ enum {
   POLYLOC_KIND_RANGES = 1,   /* polyloc_ranges: a scanner's or lidar's ranges in the rig's beam order */
   POLYLOC_KIND_DEPTH = 2,    /* polyloc_depth: depth (+ amplitude) image of a ToF/PMD camera */
   POLYLOC_KIND_ODOMETRY = 3, /* polyloc_odometry */
+  POLYLOC_KIND_COMMAND = 4,  /* polyloc_command: a controller's velocity command, for the base (polylocd hosts it) */
   POLYLOC_KIND_POSE = 10,    /* polyloc_pose */
   POLYLOC_KIND_VRS = 11,     /* polyloc_vrs */
   POLYLOC_KIND_TRACKS = 12,  /* polyloc_tracks */
@@ -47,7 +48,7 @@ enum {
 enum { POLYLOC_DIR_INPUT = 0, POLYLOC_DIR_OUTPUT = 1 };
 
 typedef struct {
-  char name[POLYLOC_NAME_LEN]; /* "scan/<sensor>", "depth/<sensor>", "odom", "pose", "vrs", "tracks", "health" */
+  char name[POLYLOC_NAME_LEN]; /* "scan/<sensor>", "depth/<sensor>", "odom", "cmd_vel", "pose", "vrs", "tracks", "health" */
   uint32_t kind;               /* POLYLOC_KIND_* */
   uint32_t direction;          /* POLYLOC_DIR_* */
   uint32_t slot_count;         /* power of two */
@@ -115,6 +116,19 @@ typedef struct {
   double qw, qx, qy, qz;
   double vx, vy, wz;           /* base frame twist (informational) */
 } polyloc_odometry;
+
+/* A controller's velocity command for the base (geometry_msgs/Twist in base_link) and what the
+ * controller is doing. polylocd only hosts the channel ("cmd_vel", an input it never reads); the
+ * base driver (or `polyloc play --drive`) reads the newest frame and stops the robot when none came
+ * for its command timeout (0.5 s), as a real base does. */
+enum { POLYLOC_NAV_IDLE = 0, POLYLOC_NAV_DRIVING = 1, POLYLOC_NAV_REACHED = 2, POLYLOC_NAV_FAILED = 3 };
+typedef struct {
+  int64_t stamp_ns;            /* the data's time the command answers (the stamp of the pose/VRS it used) */
+  double vx, vy, wz;           /* base_link: m/s forward, m/s left (0 on a differential base), rad/s */
+  uint32_t nav_state;          /* POLYLOC_NAV_*: the controller's mission state */
+  uint32_t goal;               /* the goal it works on (the controller's numbering) */
+  char status[64];             /* one short line ("lab 1: door passage"), NUL-terminated */
+} polyloc_command;             /* 104 bytes */
 
 enum { POLYLOC_POSE_INITIALISING = 0, POLYLOC_POSE_TRACKING = 1, POLYLOC_POSE_UNCERTAIN = 2, POLYLOC_POSE_LOST = 3 };
 typedef struct {

@@ -47,6 +47,9 @@ class BaseMotion {
   void advance(int64_t t_ns);
   // A collision: velocity zero at once, target zero until the next accepted command.
   void stop();
+  // Puts the base at `p` (its planar part), velocity unchanged: a simulator moving the robot back
+  // to where it stood before a contact. Throws std::invalid_argument for a non-finite pose.
+  void place(const Pose& p);
 
   const Pose& pose() const { return pose_; }
   BaseTwist velocity() const { return vel_; }

@@ -64,12 +64,17 @@ class People {
   // State of person i at time t (s since the run start); `robot` is the robot's (x, y) at t.
   PersonState state(size_t i, double t, const Eigen::Vector2d& robot) const;
   PeopleScene scene(double t, const Eigen::Vector2d& robot) const;
+  // Closed loop (sim/drive.hpp): seconds each person has stood waiting for the robot so far; they
+  // are that much behind on their way from then on (appearing and leaving keep their times).
+  void setDelays(std::vector<double> delays) { delays_ = std::move(delays); }
+  const std::vector<double>& delays() const { return delays_; }
   // Body boxes of one person (also used for plots and tests).
   static void addBody(const PersonState& s, double height, std::vector<OrientedBox>& out);
 
  private:
   std::vector<PersonSpec> specs_;
   std::vector<std::vector<double>> cum_;  // cumulative length at each waypoint (closed if loop)
+  std::vector<double> delays_;            // per person, s (empty: none)
 };
 
 }  // namespace polyloc

@@ -31,6 +31,17 @@ struct OdometrySettings {
   OdometryNoise noise;
 };
 
+// Closed-loop missions (polyloc eval nav, docs/navigation.md): where the controller's zones and
+// goals are, and which goals to visit. The simulator itself does not use it.
+struct NavigationSpec {
+  std::string zones;               // the controller's zone file (rooms, doors, danger, goals); "" none
+  std::vector<std::string> goals;  // goal names visited in order; empty: drawn at random (seed)
+  double mission_timeout = 120;    // s of simulated time per mission
+  double start_yaw = 0;            // rad: the robot's heading at the start (the route's first waypoint)
+  // vrs.sources for the runs with the VRS on ({sensor, mode} as in docs/vrs.md); empty: the config's
+  std::vector<std::pair<std::string, std::string>> vrs_sources;
+};
+
 struct Scenario {
   std::string file;        // where it was read from ("" when built in code)
   PolylocConfig config;    // map, robot, rig
@@ -44,6 +55,7 @@ struct Scenario {
   WorldSpec world;         // what the sensors see where it differs from the map
   NoiseSettings noise;
   OdometrySettings odometry;
+  NavigationSpec navigation;
   std::string map_frame = "map", odom_frame = "odom", base_frame = "base_link";
 };
 

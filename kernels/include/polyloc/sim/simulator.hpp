@@ -37,6 +37,7 @@ namespace polyloc {
 
 namespace detail {
 class SensorSim;  // kernels/sim/sensor_sim.hpp
+struct SimCursor;
 }
 
 // One sensor frame as simulated, for tests and plots (not written to the recording).
@@ -86,6 +87,7 @@ class Simulator {
   const RayCaster& caster() const;
   const Trajectory& trajectory() const { return *trajectory_; }
   const People& people() const { return *people_; }
+  People& people() { return *people_; }  // the closed loop makes people wait for the robot
   const FloorModel& floor() const { return *floor_; }
   double duration() const { return duration_; }  // s
   Pose groundTruth(double t) const;              // map_T_base at t seconds
@@ -94,6 +96,12 @@ class Simulator {
   SimSummary run(RecordingWriter& out, const SimHooks& hooks = {});
 
  private:
+  friend class SimStepper;
+  // Every odometry tick and sensor frame not simulated yet before c1 ns from the start, the robot
+  // at state_at(t).
+  void span(int64_t c1, const std::function<PlanarState(int64_t)>& state_at, detail::SimCursor& cur,
+            RecordingWriter& out, const SimHooks& hooks, SimSummary& summary);
+
   Scenario scenario_;
   Mesh world_;
   WorldChanges world_changes_;
@@ -107,6 +115,25 @@ class Simulator {
   std::vector<int> level_scanners_;    // rig indices of the level planar scanners (people truth)
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> chair_moves_;
   double duration_ = 0;
+};
+
+// The simulator driven from outside (closed loop, sim/drive.hpp): the robot's planar state at each
+// event comes from the caller instead of the scenario's route. Events (odometry ticks, sensor
+// frames) come one time at a time, with the same messages, noise and random streams as run().
+class SimStepper {
+ public:
+  explicit SimStepper(Simulator& sim);
+  ~SimStepper();
+  int64_t nextEventNs() const;  // from the start: the next odometry tick or sensor frame
+  // Simulates everything due at nextEventNs() with the robot at `state` (the first call also
+  // writes /tf_static).
+  void emit(const PlanarState& state, RecordingWriter& out, const SimHooks& hooks = {});
+  const SimSummary& summary() const { return summary_; }
+
+ private:
+  Simulator& sim_;
+  std::unique_ptr<detail::SimCursor> cur_;
+  SimSummary summary_;
 };
 
 // Loads the scenario's map file with its load options. Throws MapError.

@@ -1,0 +1,111 @@
+#include "cli/drive_loop.hpp"
+
+#include "shm/validate.hpp"
+
+#include <polyloc/tracking/people_tracker.hpp>
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+namespace polyloc::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Collects one event's messages.
+class Collect final : public RecordingWriter {
+ public:
+  void write(const std::string& topic, int64_t log_time_ns, const msg::Message& m) override {
+    out.push_back({topic, log_time_ns, log_time_ns, m});
+  }
+  void close() override {}
+  std::vector<RecordedMessage> out;
+};
+
+}  // namespace
+
+DriveLoop::DriveLoop(Simulator& sim, const std::string& instance, const DriveLoopOptions& options)
+    : sim_(sim), opt_(options), feed_(instance, options.wait_attach_s), drive_(std::make_unique<DriveSim>(sim, options.drive)) {
+  seg_.emplace(shm::Segment::attach(instance));
+  const int vrs = seg_->find("vrs"), cmd = seg_->find("cmd_vel");
+  if (cmd < 0)
+    throw std::runtime_error(fmt::format("polylocd '{}' has no cmd_vel channel: it is older than this polyloc "
+                                         "(restart it from this build)", instance));
+  if (vrs < 0) throw std::runtime_error(fmt::format("polylocd '{}' has no vrs channel", instance));
+  vrs_ = std::make_unique<shm::Reader>(*seg_, vrs, shm::Reader::Start::Next);
+  cmd_ = std::make_unique<shm::Reader>(*seg_, cmd, shm::Reader::Start::Next);
+  // polylocd renews the VRS at the frames of the last level scanner (pipeline.cpp).
+  const auto& cfg = sim.scenario().config;
+  PeopleTracker tracker(cfg.rig, cfg.tracking);
+  if (!tracker.sensors().empty()) trigger_topic_ = "/scan/" + cfg.rig.sensors[tracker.sensors().back()].name;
+  start_ns_ = sim.scenario().start_time_ns;
+  t0_ = Clock::now();
+}
+
+DriveLoop::~DriveLoop() = default;
+
+bool DriveLoop::waitFor(shm::Reader& r, int64_t stamp, double wait_s, bool at_least) {
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wait_s));
+  for (;;) {
+    while (auto f = r.next(buf_)) {
+      if (&r == cmd_.get()) {
+        // Handled like every command (readCommands), then checked against the stamp waited for.
+        const int64_t s = f->stamp_ns;
+        std::vector<uint8_t> frame = buf_;
+        const shm::Validation v = shm::validateInput(r.channel(), f->frame, frame.data(), frame.size(),
+                                                     {.now_ns = s, .last_ns = last_cmd_stamp_, .max_age_ns = -1, .max_future_ns = -1});
+        if (!v) {
+          ++counters_.commands_rejected;
+          continue;
+        }
+        polyloc_command c;
+        std::memcpy(&c, frame.data(), sizeof c);
+        last_cmd_stamp_ = c.stamp_ns;
+        ++counters_.commands;
+        last_status_ = c.status;
+        drive_->command({c.stamp_ns - feed_.baseNs(), c.vx, c.vy, c.wz});
+        if (on_command) on_command(c, double(c.stamp_ns - feed_.baseNs()) * 1e-9);
+        if (s >= stamp) return true;
+      } else if (at_least ? f->stamp_ns >= stamp : f->stamp_ns == stamp) {
+        return true;
+      }
+    }
+    if (Clock::now() >= deadline) return false;
+    r.wait(2'000'000);
+    feed_.poll();
+  }
+}
+
+void DriveLoop::readCommands() { waitFor(*cmd_, INT64_MAX, 0, true); }
+
+void DriveLoop::step() {
+  const int64_t t = drive_->nextEventNs();
+  // Pace: the event's simulated time against the wall clock at `rate`.
+  const auto due = t0_ + std::chrono::nanoseconds(int64_t(double(t) / opt_.rate));
+  while (Clock::now() < due) {
+    feed_.poll();
+    readCommands();
+    std::this_thread::sleep_until(std::min(due, Clock::now() + std::chrono::milliseconds(2)));
+  }
+  Collect c;
+  drive_->step(c);
+  ++counters_.steps;
+  bool trigger = false;
+  for (const RecordedMessage& m : c.out) {
+    feed_.send(m, 0, start_ns_);
+    trigger |= m.topic == trigger_topic_;
+  }
+  feed_.poll();
+  if (trigger) {
+    ++counters_.triggers;
+    const int64_t stamp = feed_.baseNs() + t;
+    if (!waitFor(*vrs_, stamp, opt_.wait_vrs_s, false)) ++counters_.vrs_missed;
+    else if (!waitFor(*cmd_, stamp, opt_.wait_command_s, true)) ++counters_.commands_late;
+  }
+  readCommands();
+}
+
+}  // namespace polyloc::cli

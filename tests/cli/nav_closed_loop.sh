@@ -1,0 +1,79 @@
+#!/bin/bash
+# The closed loop, as a user runs it: polylocd + polynav (the reference controller, linking only
+# libpolyloc_client) + the simulated robot of `polyloc play --drive` / `polyloc eval nav`.
+#  - eval nav, two missions on the lab: through the 0.75 m door of lab 1 to the island, then to
+#    the wall bench: both reached, 0 collisions, 0 danger-zone entries, the door passed without
+#    oscillation, goals within 2 cm / 1 deg of the true pose, a PNG of the run;
+#  - play --drive with polylocd and polynav started by hand: the robot moves on the commands,
+#    the summary counts them;
+#  - errors: --drive without a scenario, polynav with an unknown goal or without polylocd.
+set -euo pipefail
+POLYLOC=$1
+SRC=$2
+BIN=$(dirname "$POLYLOC")
+PY=/usr/bin/python3
+cd "$SRC"
+tmp=$(mktemp -d)
+instance=navtest_$$
+pids=()
+trap 'for p in "${pids[@]}"; do kill -9 $p 2>/dev/null || true; done; rm -rf "$tmp" /dev/shm/polyloc.$instance' EXIT
+
+cat > "$tmp/two.yaml" <<YAML
+base: $SRC/maps/scenarios/lab_nav.yaml
+navigation:
+  zones: $SRC/maps/nav/lab.yaml
+  goals: [lab 1 island, lab 1 bench]
+  mission_timeout: 120
+YAML
+"$POLYLOC" eval nav --scenario "$tmp/two.yaml" --missions 2 --json --quiet --plot "$tmp/run.png" > "$tmp/eval.json"
+"$PY" - "$tmp/eval.json" <<'PYEOF'
+import json, sys
+j = json.load(open(sys.argv[1]))
+m = j["per_mission"]
+print({k: j[k] for k in ("reached", "collisions", "danger_entries", "door_passages", "door_oscillations",
+                         "min_clearance_m", "goal_error_max_m", "time_vs_optimal", "sim_s")})
+assert j["missions"] == 2 and j["reached"] == 2, [x["status"] for x in m]
+assert j["collisions"] == 0 and j["danger_entries"] == 0, j
+assert j["door_passages"] >= 1 and j["door_oscillations"] == 0, j
+for x in m:
+    assert x["goal_error_m"] <= 0.02 and x["goal_yaw_error_deg"] <= 1.0, x
+    assert x["min_clearance_m"] >= 0.01, x
+    # Docking 25 cm in front of the island and the bench: the door and the approach cost time,
+    # never more than 3x the wavefront-optimal path at full speed.
+    assert x["duration_s"] < 3 * x["optimal_m"] / 0.5 + 20, x
+assert j["drive"]["loop"]["vrs_missed"] == 0 and j["drive"]["loop"]["commands_late"] == 0, j["drive"]["loop"]
+PYEOF
+head -c 8 "$tmp/run.png" | od -An -c | grep -q "P   N   G"
+
+# By hand: polylocd (source clock for lockstep), the controller, the simulated base.
+sed -e "s|^map: ../lab.obj|map: $SRC/maps/lab.obj|" -e "s|^rig: ../rigs/lisa.yaml|rig: $SRC/maps/rigs/lisa.yaml|" \
+    -e "s|  instance: lab .*|  instance: $instance\n  clock: source|" maps/config/lab.yaml > "$tmp/daemon.yaml"
+"$POLYLOC" map navgrid --config maps/config/lab.yaml --out "$tmp/nav.yaml" --no-preview > /dev/null
+"$BIN/polylocd" --config "$tmp/daemon.yaml" --control-port 0 --init 2.0,1.75,0 --threads 2 --log-level warn 2> "$tmp/polylocd.log" &
+pids+=($!)
+"$BIN/polynav" --shm "$instance" --grid "$tmp/nav.yaml" --zones maps/nav/lab.yaml --goals "corridor hose cabinet" \
+  --quiet --json > "$tmp/polynav.json" 2> "$tmp/polynav.log" &
+pids+=($!)
+"$POLYLOC" play --scenario maps/scenarios/lab_nav.yaml --shm "$instance" --drive --rate 100 --duration 12 --json --quiet > "$tmp/drive.json"
+"$PY" - "$tmp/drive.json" <<'PYEOF'
+import json, sys
+j = json.load(open(sys.argv[1]))
+print({k: j[k] for k in ("sim_s", "final_pose", "collisions", "loop")})
+assert j["loop"]["commands"] > 50 and j["loop"]["vrs_missed"] == 0, j["loop"]
+assert j["base"]["rejected"] == 0 and not j["collisions"], j
+# 12 s towards the hose cabinet at x = 10.5: it left the start (2.0, 1.75) eastwards.
+assert j["final_pose"][0] > 3.5, j["final_pose"]
+PYEOF
+
+# Errors name what is wrong.
+if "$POLYLOC" play --shm "$instance" --drive --input /dev/null 2> "$tmp/err"; then echo "--drive without scenario ran" >&2; exit 1; fi
+grep -q "\-\-drive needs --scenario" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+if "$BIN/polynav" --shm "$instance" --grid "$tmp/nav.yaml" --zones maps/nav/lab.yaml --goals "no such goal" 2> "$tmp/err"; then
+  echo "unknown goal accepted" >&2; exit 1
+fi
+grep -q "no goal 'no such goal'" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+if "$BIN/polynav" --shm nosuch_$$ --grid "$tmp/nav.yaml" --zones maps/nav/lab.yaml --goals "lab 1 bench" --wait 0.2 2> "$tmp/err"; then
+  echo "polynav ran without polylocd" >&2; exit 1
+fi
+grep -q "polyloc.nosuch_$$" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+echo "closed loop ok"
