@@ -41,6 +41,7 @@ namespace fs = std::filesystem;
 struct Args {
   std::string scenario, vrs = "on", local = "nd", plot, keep;
   size_t missions = 10;
+  int threads = 2;
   int64_t seed = -1;
   double rate = 1000, margin = 60;
   bool json = false, quiet = false;
@@ -193,7 +194,7 @@ void run(const Args& a) {
 
   const std::string bin = executableDir();
   const Waypoint& start = s.route.waypoints.at(0);
-  ChildProcess daemon({bin + "/polylocd", "--config", daemon_cfg, "--instance", instance, "--threads", "2", "--log-level", "warn",
+  ChildProcess daemon({bin + "/polylocd", "--config", daemon_cfg, "--instance", instance, "--threads", std::to_string(a.threads), "--log-level", "warn",
                        "--init", fmt::format("{},{},{}", start.p.x(), start.p.y(), s.navigation.start_yaw * 180 / M_PI)},
                       (dir / "polylocd.out").string(), (dir / "polylocd.log").string());
   std::string names;
@@ -300,6 +301,12 @@ void run(const Args& a) {
             fmt::format("eval nav {} (vrs {}, {})", fs::path(a.scenario).filename().string(), a.vrs, a.local), a.plot);
     j["plot"] = a.plot;
   }
+  if (!a.keep.empty()) {  // polylocd's poses as they came back (TUM: stamp x y z qx qy qz qw)
+    std::ofstream tum(dir / "poses.tum");
+    tum.precision(12);
+    for (const auto& e : loop.feed().result().estimates)
+      tum << double(e.stamp_ns) * 1e-9 << ' ' << e.pose.x() << ' ' << e.pose.y() << ' ' << e.pose.z() << ' ' << e.pose.yaw() << '\n';
+  }
   if (a.keep.empty()) fs::remove_all(dir);
   if (a.json) fmt::print("{}\n", j.dump());
   else
@@ -320,6 +327,7 @@ void registerEvalNav(CLI::App& eval) {
       ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
   c.add_option("--local", a->local, "The controller's local avoidance: nd or vfh")->capture_default_str()->check(CLI::IsMember({"nd", "vfh"}));
   addSeedOption(c, a->seed, "Overrides the scenario's seed (people, noise, goals drawn)");
+  c.add_option("--threads", a->threads, "polylocd's TBB threads")->capture_default_str()->check(CLI::Range(1, 256));
   c.add_option("--rate", a->rate, "Pacing against the wall clock (1: real time)")->capture_default_str()->check(finiteRange(0.1, 1e6));
   c.add_option("--plot", a->plot, "PNG: map, the robot's path, goals, collisions");
   c.add_option("--keep", a->keep, "Keep the work files (grid, polylocd config, logs) in this folder");

@@ -42,6 +42,10 @@ DriveLoop::DriveLoop(Simulator& sim, const std::string& instance, const DriveLoo
   PeopleTracker tracker(cfg.rig, cfg.tracking);
   if (!tracker.sensors().empty()) trigger_topic_ = "/scan/" + cfg.rig.sensors[tracker.sensors().back()].name;
   start_ns_ = sim.scenario().start_time_ns;
+  // Faster or slower than real time needs polylocd on the source clock; then the scenario's own
+  // stamps make the run the same whenever it is started (the localiser's random numbers are keyed
+  // by stamps). At real time, stamps move onto the wall clock as in `polyloc play`.
+  if (options.rate != 1.0) feed_.keepSourceStamps(start_ns_);
   t0_ = Clock::now();
 }
 
@@ -93,15 +97,24 @@ void DriveLoop::step() {
   Collect c;
   drive_->step(c);
   ++counters_.steps;
-  bool trigger = false;
+  // The VRS trigger's frames go last, after every other frame of their instant (polylocd sorts
+  // them last too): its VRS comes when everything of that instant has been taken. (A run is the
+  // same every time when every sensor's frames fall on odometry ticks, as in lab_nav.yaml: then
+  // polylocd never extrapolates odometry, whichever frames its read passes group.)
+  std::vector<int64_t> triggers;
+  std::vector<RecordedMessage> trigger_frames;
   for (const RecordedMessage& m : c.out) {
+    if (m.topic == trigger_topic_) trigger_frames.push_back(m);
+    else feed_.send(m, 0, start_ns_);
+  }
+  for (const RecordedMessage& m : trigger_frames) {
     feed_.send(m, 0, start_ns_);
-    trigger |= m.topic == trigger_topic_;
+    triggers.push_back(m.log_time_ns - start_ns_);
   }
   feed_.poll();
-  if (trigger) {
+  for (int64_t t_trigger : triggers) {
     ++counters_.triggers;
-    const int64_t stamp = feed_.baseNs() + t;
+    const int64_t stamp = feed_.baseNs() + t_trigger;
     if (!waitFor(*vrs_, stamp, opt_.wait_vrs_s, false)) ++counters_.vrs_missed;
     else if (!waitFor(*cmd_, stamp, opt_.wait_command_s, true)) ++counters_.commands_late;
   }

@@ -48,6 +48,9 @@ class PlayFeed {
   void finish();       // flushes pending depth frames, waits briefly for the last outputs
   void countLate() { ++r_.late; }
   int64_t baseNs() const { return base_ns_; }  // CLOCK_REALTIME the source's first stamp is moved to
+  // Stamps from `first_log_ns` on stay the source's own (not moved onto the wall clock): for a
+  // polylocd on the source clock, so that a run does not depend on when it was started.
+  void keepSourceStamps(int64_t first_log_ns) { base_ns_ = first_log_ns; }
   std::string statusLine(double t_s, double span_s) const;
   PlayResult result() const;
   nlohmann::json resultJson() const;

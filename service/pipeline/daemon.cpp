@@ -180,10 +180,16 @@ struct Daemon::Impl final : PipelineSink {
       health[i].overruns = readers[i].overruns();
     }
     // Stamp order across channels, odometry first at equal stamps: the localiser predicts
-    // with the odometry up to a scan before it weighs the scan.
+    // with the odometry up to a scan before it weighs the scan; the VRS trigger sensor last: the
+    // VRS then holds every frame of its instant, and a pose that instant gives goes out before it.
+    auto rank = [&](const Taken& t) {
+      const int ch = d.table_.inputs[size_t(t.input)];
+      if (ch == d.table_.odom) return 0;
+      return desc(t.input).sensor == int32_t(pipe->triggerSensor()) ? 2 : 1;
+    };
     std::stable_sort(pass.begin(), pass.end(), [&](const Taken& a, const Taken& b) {
       if (a.stamp_ns != b.stamp_ns) return a.stamp_ns < b.stamp_ns;
-      return (d.table_.inputs[size_t(a.input)] == d.table_.odom) > (d.table_.inputs[size_t(b.input)] == d.table_.odom);
+      return rank(a) < rank(b);
     });
     return any;
   }
