@@ -4,6 +4,7 @@
 #  - eval nav, two missions on the lab: through the 0.75 m door of lab 1 to the island, then to
 #    the wall bench: both reached, 0 collisions, 0 danger-zone entries, the door passed without
 #    oscillation, goals within 2 cm / 1 deg of the true pose, a PNG of the run;
+#  - the same missions again on one polylocd thread: identical, decision for decision;
 #  - play --drive with polylocd and polynav started by hand: the robot moves on the commands,
 #    the summary counts them;
 #  - errors: --drive without a scenario, polynav with an unknown goal or without polylocd.
@@ -44,6 +45,14 @@ for x in m:
 assert j["drive"]["loop"]["vrs_missed"] == 0 and j["drive"]["loop"]["commands_late"] == 0, j["drive"]["loop"]
 PYEOF
 head -c 8 "$tmp/run.png" | od -An -c | grep -q "P   N   G"
+# The same run again on one polylocd thread: the same missions, decision for decision (lockstep,
+# the scenario's own stamps, every sensor frame on an odometry tick).
+"$POLYLOC" eval nav --scenario "$tmp/two.yaml" --missions 2 --json --quiet --threads 1 > "$tmp/eval1.json"
+"$PY" - "$tmp/eval.json" "$tmp/eval1.json" <<'PYEOF'
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+assert a["per_mission"] == b["per_mission"] and a["drive"]["final_pose"] == b["drive"]["final_pose"], (a["drive"], b["drive"])
+PYEOF
 
 # By hand: polylocd (source clock for lockstep), the controller, the simulated base.
 sed -e "s|^map: ../lab.obj|map: $SRC/maps/lab.obj|" -e "s|^rig: ../rigs/lisa.yaml|rig: $SRC/maps/rigs/lisa.yaml|" \
