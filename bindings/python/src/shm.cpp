@@ -69,6 +69,7 @@ const char* kindName(uint32_t k) {
     case POLYLOC_KIND_RANGES: return "ranges";
     case POLYLOC_KIND_DEPTH: return "depth";
     case POLYLOC_KIND_ODOMETRY: return "odometry";
+    case POLYLOC_KIND_COMMAND: return "command";
     case POLYLOC_KIND_POSE: return "pose";
     case POLYLOC_KIND_VRS: return "vrs";
     case POLYLOC_KIND_TRACKS: return "tracks";
@@ -80,10 +81,10 @@ const char* kindName(uint32_t k) {
 uint32_t kindOf(const pb::handle& v) {
   if (pb::isinstance<pb::int_>(v)) return v.cast<uint32_t>();
   const std::string s = v.cast<std::string>();
-  for (uint32_t k : {POLYLOC_KIND_RANGES, POLYLOC_KIND_DEPTH, POLYLOC_KIND_ODOMETRY, POLYLOC_KIND_POSE, POLYLOC_KIND_VRS,
-                     POLYLOC_KIND_TRACKS, POLYLOC_KIND_HEALTH})
+  for (uint32_t k : {POLYLOC_KIND_RANGES, POLYLOC_KIND_DEPTH, POLYLOC_KIND_ODOMETRY, POLYLOC_KIND_COMMAND, POLYLOC_KIND_POSE,
+                     POLYLOC_KIND_VRS, POLYLOC_KIND_TRACKS, POLYLOC_KIND_HEALTH})
     if (s == kindName(k)) return k;
-  raise(PyExc_ValueError, "channel kind '" + s + "': one of ranges, depth, odometry, pose, vrs, tracks, health");
+  raise(PyExc_ValueError, "channel kind '" + s + "': one of ranges, depth, odometry, command, pose, vrs, tracks, health");
 }
 
 const char* stateName(uint32_t s) {
@@ -128,7 +129,7 @@ shm::ChannelSpec toSpec(const pb::handle& obj) {
   shm::ChannelSpec s;
   s.name = d["name"].cast<std::string>();
   s.kind = kindOf(d["kind"]);
-  s.direction = s.kind <= POLYLOC_KIND_ODOMETRY ? POLYLOC_DIR_INPUT : POLYLOC_DIR_OUTPUT;
+  s.direction = s.kind <= POLYLOC_KIND_COMMAND ? POLYLOC_DIR_INPUT : POLYLOC_DIR_OUTPUT;  // kinds below 10 are inputs
   if (d.contains("direction")) {
     const std::string dir = d["direction"].cast<std::string>();
     if (dir != "input" && dir != "output") raise(PyExc_ValueError, "channel '" + s.name + "': direction '" + dir + "' (input or output)");
@@ -224,6 +225,16 @@ pb::dict decode(const shm::FrameInfo& f, const std::vector<uint8_t>& buf, const 
       d["stamp_ns"] = o.stamp_ns;
       d["pose"] = quaternionPose(o.x, o.y, o.z, o.qw, o.qx, o.qy, o.qz);
       d["twist"] = pb::make_tuple(o.vx, o.vy, o.wz);
+      break;
+    }
+    case POLYLOC_KIND_COMMAND: {
+      const auto c = fixedPart<polyloc_command>(buf);
+      static const char* states[] = {"idle", "driving", "reached", "failed"};
+      d["stamp_ns"] = c.stamp_ns;
+      d["twist"] = pb::make_tuple(c.vx, c.vy, c.wz);
+      d["nav_state"] = c.nav_state <= POLYLOC_NAV_FAILED ? states[c.nav_state] : "unknown";
+      d["goal"] = c.goal;
+      d["status"] = std::string(c.status, strnlen(c.status, sizeof c.status));
       break;
     }
     case POLYLOC_KIND_POSE: {
@@ -549,6 +560,28 @@ unless take_over.)")
         w.writeStruct(o, stamp_ns);
       }, pb::arg("stamp_ns"), pb::arg("odom_T_base"), pb::arg("twist") = std::array<double, 3>{0, 0, 0},
            "Cumulative odometry odom_T_base (a Pose, (4, 4) or x, y, z, roll, pitch, yaw); twist (vx, vy, wz), informational.")
+      .def("write_command", [](PyWriter& w, int64_t stamp_ns, std::array<double, 3> twist, const std::string& nav_state,
+                               uint32_t goal, const std::string& status) {
+        w.need(POLYLOC_KIND_COMMAND, "write_command");
+        static const char* states[] = {"idle", "driving", "reached", "failed"};
+        polyloc_command c{};
+        c.stamp_ns = stamp_ns;
+        c.vx = twist[0], c.vy = twist[1], c.wz = twist[2];
+        for (double v : twist)
+          if (!std::isfinite(v) || std::abs(v) > 100.0)
+            raise(PyExc_ValueError, "write_command: twist value " + std::to_string(v) + " is not within +-100");
+        c.nav_state = 4;
+        for (uint32_t k = 0; k < 4; ++k)
+          if (nav_state == states[k]) c.nav_state = k;
+        if (c.nav_state > POLYLOC_NAV_FAILED)
+          raise(PyExc_ValueError, "write_command: nav_state '" + nav_state + "' (idle, driving, reached, failed)");
+        c.goal = goal;
+        std::strncpy(c.status, status.c_str(), sizeof c.status - 1);
+        w.writeStruct(c, stamp_ns);
+      }, pb::arg("stamp_ns"), pb::arg("twist"), pb::arg("nav_state") = "driving", pb::arg("goal") = 0,
+           pb::arg("status") = "",
+           "A velocity command for the base on cmd_vel: twist (vx, vy, wz) in base_link, the controller's state "
+           "(idle, driving, reached, failed), goal number, a status line (cut at 63 bytes).")
       .def("write_pose", [](PyWriter& w, int64_t stamp_ns, const pb::handle& pose, const pb::handle& covariance,
                             const std::string& status, size_t particles, double ess, uint64_t updates, int64_t latency_ns,
                             const pb::handle& map_odom) {

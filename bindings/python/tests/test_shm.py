@@ -252,7 +252,8 @@ def test_daemon_channels_are_polylocds_table(instance, lab_config):
     specs = shm.daemon_channels(lab_config, slots=8)
     names = [s["name"] for s in specs]
     assert names[:2] == ["scan/s300_front_left", "scan/s300_rear_right"] and "depth/tof_front" in names
-    assert names[-5:] == ["odom", "pose", "vrs", "tracks", "health"]
+    assert names[-6:] == ["odom", "cmd_vel", "pose", "vrs", "tracks", "health"]
+    assert specs[names.index("cmd_vel")]["kind"] == "command" and specs[names.index("cmd_vel")]["direction"] == "input"
     tof = specs[names.index("depth/tof_front")]
     assert (tof["kind"], tof["width"], tof["height"], tof["sensor"]) == ("depth", 64, 50, 6)
     with shm.Segment.create(instance, specs) as seg:
@@ -308,7 +309,8 @@ def test_polylocd_end_to_end(root, tmp_path, instance):
         got.extend(poses.drain())
 
         print(f"sent {feed.sent}\nhealth {h}")
-        assert set(feed.sent) == {c["name"] for c in seg.channels() if c["direction"] == "input"}
+        # Every input polylocd reads was fed (cmd_vel is the controller's, for the base: polylocd never reads it).
+        assert set(feed.sent) == {c["name"] for c in seg.channels() if c["direction"] == "input" and c["kind"] != "command"}
         # Every frame sent is taken: nothing is lost by design while polylocd keeps up. An input
         # frame is lost only (docs/interface.md) as stale, when it is read more than max_age
         # (500 ms) after its stamp, or as an overrun, when the ring laps the reader (16 slots,
@@ -350,3 +352,20 @@ def test_polylocd_end_to_end(root, tmp_path, instance):
             proc.wait()
         log.seek(0)
         print(log.read())
+
+
+def test_commands_for_the_base(instance):
+    specs = [{"name": "cmd_vel", "kind": "command"}]
+    with shm.Segment.create(instance, specs) as seg:
+        assert seg.channels()[0]["direction"] == "input"
+        w = shm.Writer(seg, "cmd_vel")
+        r = shm.Reader(seg, "cmd_vel", start="oldest")
+        w.write_command(1000, (0.4, 0.0, -0.25), "reached", 3, "lab 1: 'lab 1 bench' reached")
+        f = r.next()
+        assert f["stamp_ns"] == 1000 and f["twist"] == (0.4, 0.0, -0.25)
+        assert f["nav_state"] == "reached" and f["goal"] == 3 and f["status"] == "lab 1: 'lab 1 bench' reached"
+        with pytest.raises(ValueError, match="nav_state 'parked'"):
+            w.write_command(2000, (0, 0, 0), "parked")
+        with pytest.raises(ValueError, match="not within"):
+            w.write_command(2000, (float("nan"), 0, 0))
+        assert r.next() is None
