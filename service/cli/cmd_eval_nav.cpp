@@ -211,7 +211,13 @@ void run(const Args& a) {
   Simulator sim(s, map);
   DriveLoopOptions o;
   o.rate = a.rate;
+  // Both programs are ours and alive (checked every step): waits may be long on a loaded machine
+  // without changing the run.
+  o.wait_vrs_s = 30, o.wait_command_s = 30, o.wait_attach_s = 60;
   DriveLoop loop(sim, instance, o);
+  if (!loop.waitForController(60, [&] { return nav.running() && daemon.running(); }))
+    throw std::runtime_error(fmt::format("polynav did not start listening on '{}' (its log: {})", instance,
+                                         (dir / "polynav.log").string()));
   // Bodies grown by these margins measure the clearance (the smallest that touches bounds it).
   const std::vector<double> margins{0.01, 0.02, 0.03, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3};
   std::vector<BodyCollider> grown;

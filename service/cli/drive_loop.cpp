@@ -83,6 +83,17 @@ bool DriveLoop::waitFor(shm::Reader& r, int64_t stamp, double wait_s, bool at_le
   }
 }
 
+bool DriveLoop::waitForController(double timeout_s, const std::function<bool()>& alive) {
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
+  const polyloc_ring_control* ring = seg_->ring(seg_->find("cmd_vel"));
+  while (__atomic_load_n(&ring->writer_pid, __ATOMIC_ACQUIRE) == 0) {
+    if (Clock::now() >= deadline || (alive && !alive())) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  t0_ = Clock::now();
+  return true;
+}
+
 void DriveLoop::readCommands() { waitFor(*cmd_, INT64_MAX, 0, true); }
 
 void DriveLoop::step() {

@@ -40,6 +40,9 @@ class DriveLoop {
   DriveLoop(Simulator& sim, const std::string& instance, const DriveLoopOptions& options);
   ~DriveLoop();
 
+  // Waits (wall clock) until a controller holds the cmd_vel writer role, so that the first scans
+  // are not sent before it listens; false after timeout_s or when `alive` says it is gone.
+  bool waitForController(double timeout_s, const std::function<bool()>& alive = {});
   // One simulator event: move, simulate, send, and in lockstep wait for polylocd and the
   // controller. `on_command` sees every command read (t: simulated s of its stamp).
   void step();

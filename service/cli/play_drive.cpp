@@ -50,6 +50,9 @@ void runPlayDrive(const PlayDriveArgs& a) {
   o.wait_attach_s = a.wait;
   o.drive.command_latency = a.command_latency;
   DriveLoop loop(sim, a.shm, o);
+  // A controller started beside this one may still be loading its map: give it --wait seconds.
+  if (!loop.waitForController(a.wait))
+    fmt::print(stderr, "polyloc play: no controller holds '{}' cmd_vel yet: driving on (the base stands until one commands it)\n", a.shm);
   const double span = a.duration > 0 ? a.duration : sim.duration();
   const bool tty = isatty(fileno(stderr));
   auto last_status = std::chrono::steady_clock::now();
