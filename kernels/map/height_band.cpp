@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -352,6 +353,18 @@ HeightBand heightBandGrid(const Mesh& mesh, const HeightBandOptions& o, HeightBa
     }
   if (stats) *stats = st;
   return out;
+}
+
+std::vector<std::string> saveHeightBand(const HeightBand& band, const std::string& yaml_path) {
+  saveGridMap(band.grid, yaml_path);
+  std::vector<std::string> written{yaml_path};
+  if (std::find(band.danger.begin(), band.danger.end(), uint8_t{1}) == band.danger.end()) return written;
+  OccupancyGrid mask = band.grid;
+  for (size_t k = 0; k < mask.cells.size(); ++k) mask.cells[k] = band.danger[k] ? OccupancyGrid::kOccupied : OccupancyGrid::kFree;
+  const std::filesystem::path p(yaml_path);
+  written.push_back((p.parent_path() / (p.stem().string() + ".danger.yaml")).string());
+  saveGridMap(mask, written.back());
+  return written;
 }
 
 }  // namespace polyloc

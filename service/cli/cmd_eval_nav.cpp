@@ -169,10 +169,7 @@ void run(const Args& a) {
   hb.clearance = s.config.vrs.floor_clearance;
   hb.danger_labels = s.config.vrs.danger_labels;
   const HeightBand band = heightBandGrid(map, hb);
-  saveGridMap(band.grid, (dir / "nav.yaml").string());
-  OccupancyGrid mask = band.grid;
-  for (size_t k = 0; k < mask.cells.size(); ++k) mask.cells[k] = band.danger[k] ? OccupancyGrid::kOccupied : OccupancyGrid::kFree;
-  saveGridMap(mask, (dir / "nav.danger.yaml").string());
+  saveHeightBand(band, (dir / "nav.yaml").string());
   const std::string daemon_cfg = writeDaemonConfig(s, instance, a.vrs == "on", dir);
 
   // The wavefront-optimal length of each mission, on the controller's own grid.
@@ -259,7 +256,7 @@ void run(const Args& a) {
         }
       path.emplace_back(float(truth.x()), float(truth.y()));
     }
-    tracker.onStep(d.nowS(), truth, d.base().velocity().vx, clearance);
+    tracker.onStep(truth, d.base().velocity().vx, clearance);
     if (!a.quiet && std::chrono::steady_clock::now() - last_print > std::chrono::milliseconds(tty ? 250 : 5000)) {
       last_print = std::chrono::steady_clock::now();
       fmt::print(stderr, "{}eval nav: mission {}/{}  {:.0f} s  collisions {}  {}{}", tty ? "\r" : "",

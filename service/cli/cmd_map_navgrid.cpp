@@ -93,15 +93,9 @@ void run(const MapNavgridArgs& a) {
   const HeightBand band = heightBandGrid(mesh, o, &st);
   const double compute_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  saveGridMap(band.grid, a.out);
+  saveHeightBand(band, a.out);
   nlohmann::json files = {a.out, pgm};
-  if (st.cells_danger > 0) {
-    OccupancyGrid mask = band.grid;
-    for (size_t k = 0; k < mask.cells.size(); ++k) mask.cells[k] = band.danger[k] ? OccupancyGrid::kOccupied : OccupancyGrid::kFree;
-    saveGridMap(mask, danger_yaml);
-    files.push_back(danger_yaml);
-    files.push_back(danger_pgm);
-  }
+  if (st.cells_danger > 0) files.push_back(danger_yaml), files.push_back(danger_pgm);
   if (!png.empty()) {
     drawPreview(band,
                 fmt::format("polyloc map navgrid {}: {} x {} cells at {} m, band {}..{} m above the floor\n"

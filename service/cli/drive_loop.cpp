@@ -58,15 +58,14 @@ bool DriveLoop::waitFor(shm::Reader& r, int64_t stamp, double wait_s, bool at_le
       if (&r == cmd_.get()) {
         // Handled like every command (readCommands), then checked against the stamp waited for.
         const int64_t s = f->stamp_ns;
-        std::vector<uint8_t> frame = buf_;
-        const shm::Validation v = shm::validateInput(r.channel(), f->frame, frame.data(), frame.size(),
+        const shm::Validation v = shm::validateInput(r.channel(), f->frame, buf_.data(), buf_.size(),
                                                      {.now_ns = s, .last_ns = last_cmd_stamp_, .max_age_ns = -1, .max_future_ns = -1});
         if (!v) {
           ++counters_.commands_rejected;
           continue;
         }
         polyloc_command c;
-        std::memcpy(&c, frame.data(), sizeof c);
+        std::memcpy(&c, buf_.data(), sizeof c);
         last_cmd_stamp_ = c.stamp_ns;
         ++counters_.commands;
         last_status_ = c.status;

@@ -52,8 +52,7 @@ void MissionTracker::abort(double t, const std::string& why) {
   m->end_status = why;
 }
 
-void MissionTracker::onStep(double t, const Pose& truth, double forward_speed, double clearance) {
-  (void)t;
+void MissionTracker::onStep(const Pose& truth, double forward_speed, double clearance) {
   const Eigen::Vector2d p(truth.x(), truth.y());
   MissionResult* m = active();
   if (m && last_) m->driven_m += std::hypot(truth.x() - last_->x(), truth.y() - last_->y());

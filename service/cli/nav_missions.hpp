@@ -43,7 +43,7 @@ class MissionTracker {
   // A command read from cmd_vel (goal, nav_state, status), at simulated time t, the robot truly at `truth`.
   void onCommand(uint32_t goal, uint32_t state, const std::string& status, double t, const Pose& truth);
   // Every simulator step: the true pose, the base's forward speed, the body's clearance (m; +inf: not measured).
-  void onStep(double t, const Pose& truth, double forward_speed, double clearance);
+  void onStep(const Pose& truth, double forward_speed, double clearance);
   void onCollision(const CollisionEvent& c);
   // The current mission ends as failed (timeout of the evaluation, controller gone).
   void abort(double t, const std::string& why);

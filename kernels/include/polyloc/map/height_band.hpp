@@ -73,4 +73,10 @@ struct HeightBand {
 HeightBand heightBandGrid(const Mesh& mesh, const HeightBandOptions& options = {},
                           HeightBandStats* stats = nullptr);
 
+// Writes the grid as a map_server YAML + PGM at `yaml_path` (saveGridMap) and, when any cell is
+// danger, the danger mask beside it as `<stem>.danger.yaml` + `.pgm` (occupied where danger):
+// what `polyloc map navgrid` writes and polynav's loadNavGrid reads. Returns the YAML paths
+// written. Throws GridMapError on I/O errors.
+std::vector<std::string> saveHeightBand(const HeightBand& band, const std::string& yaml_path);
+
 }  // namespace polyloc
