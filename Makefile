@@ -8,6 +8,7 @@ JOBS      ?= $(shell nproc)
 # EGL/GLES and Mesa's drivers: the GPU path (kernels/gpu), tested on llvmpipe where no GPU is.
 # node/npm (for the cross-check of our MCAP/CDR against the reference JS readers) are taken
 # from PATH when present, else from Debian.
+# websocketpp + asio: the live view's server (service/live); chromium: its page's test, headless.
 APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libeigen3-dev libembree-dev libtbb-dev libassimp-dev libyaml-cpp-dev \
   libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev \
@@ -17,7 +18,8 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libopenmpi-dev openmpi-bin \
   clang libclang-rt-14-dev \
   pybind11-dev python3-dev python3-numpy python3-pytest \
-  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
+  libwebsocketpp-dev libasio-dev chromium
 
 .PHONY: run test deps configure build bench bench-carmen check-figures clean
 

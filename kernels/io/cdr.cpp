@@ -100,6 +100,11 @@ void put(fc::Cdr& c, const Odometry& m) {
   put(c, m.twist.twist.angular);
   put(c, m.twist.covariance);
 }
+void put(fc::Cdr& c, const PoseWithCovarianceStamped& m) {
+  put(c, m.header);
+  put(c, m.pose.pose);
+  put(c, m.pose.covariance);
+}
 void put(fc::Cdr& c, const TFMessage& m) {
   c << static_cast<uint32_t>(m.transforms.size());
   for (const TransformStamped& t : m.transforms) put(c, t);
@@ -121,6 +126,8 @@ size_t sizeHint(const Message& m) {
                        return v.data.size() + v.encoding.size() + v.header.frame_id.size();
                      else if constexpr (std::is_same_v<T, CameraInfo>)
                        return 8 * v.d.size() + 300 + v.distortion_model.size() + v.header.frame_id.size();
+                     else if constexpr (std::is_same_v<T, PoseWithCovarianceStamped>)
+                       return 350 + v.header.frame_id.size();
                      else if constexpr (std::is_same_v<T, Odometry>)
                        return 700 + v.child_frame_id.size() + v.header.frame_id.size();
                      else if constexpr (std::is_same_v<T, TrackArray>)
@@ -257,6 +264,12 @@ void get(Reader& r, Odometry& m) {
   get(r, m.twist.twist.angular);
   r.array("twist.covariance", m.twist.covariance);
 }
+void get(Reader& r, PoseWithCovarianceStamped& m) {
+  get(r, m.header);
+  r.field = "pose.pose";
+  get(r, m.pose.pose);
+  r.array("pose.covariance", m.pose.covariance);
+}
 void get(Reader& r, TFMessage& m) {
   // header (12) + child_frame_id (4) + transform (56), the least a TransformStamped takes
   uint32_t n = r.count("transforms", 72);
@@ -314,7 +327,8 @@ Message decodeCdr(const std::string& type_name, std::span<const uint8_t> bytes) 
       {"nav_msgs/msg/Odometry", decodeAs<Odometry>},
       {"tf2_msgs/msg/TFMessage", decodeAs<TFMessage>},
       {"geometry_msgs/msg/PoseStamped", decodeAs<PoseStamped>},
-      {"polyloc_msgs/msg/TrackArray", decodeAs<TrackArray>}};
+      {"polyloc_msgs/msg/TrackArray", decodeAs<TrackArray>},
+      {"geometry_msgs/msg/PoseWithCovarianceStamped", decodeAs<PoseWithCovarianceStamped>}};
   Decoder decode = nullptr;
   for (const auto& [name, d] : decoders)
     if (name == type_name) decode = d;

@@ -6,7 +6,8 @@ const std::vector<std::string>& supportedTypes() {
   static const std::vector<std::string> names = {
       "sensor_msgs/msg/LaserScan", "sensor_msgs/msg/PointCloud2", "sensor_msgs/msg/Image",
       "sensor_msgs/msg/CameraInfo", "nav_msgs/msg/Odometry",       "tf2_msgs/msg/TFMessage",
-      "geometry_msgs/msg/PoseStamped", "polyloc_msgs/msg/TrackArray"};
+      "geometry_msgs/msg/PoseStamped", "polyloc_msgs/msg/TrackArray",
+      "geometry_msgs/msg/PoseWithCovarianceStamped"};
   return names;
 }
 

@@ -6,6 +6,7 @@
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress_bar.hpp"
+#include "cli/live_option.hpp"
 #include "cli/parse_number.hpp"
 #include "reloc/recorded_rig.hpp"
 #include "reloc/recording_job.hpp"
@@ -38,6 +39,7 @@ struct LocalizeArgs {
   double restamp_hz = 0;
   bool global = false, json = false;
   size_t plot_particles = 500;
+  LiveArgs live;
 };
 
 
@@ -95,7 +97,13 @@ void runLocalize(const LocalizeArgs& a) {
   // The weighing backend's slice height follows the rig (grid2d): complete a recorded one first.
   if (reloc::needsRecordedRig(cfg)) reloc::completeRecordedRig(cfg, *reloc::openJobRecording(jo), a.input, jo.log);
   const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(mesh, cfg.rig, cfg.mcl, cfg.mcl.threads);
+  LiveHook live(a.live, mesh, cfg.rig);
+  if (live.on()) {
+    jo.on_frame = [&live](size_t s, int64_t t, std::span<const float> r) { live.frame(s, t, r); };
+    jo.on_update = [&live](const MclEstimate& e, const ParticleSet& p, const Pose& odom) { live.update(e, p, odom); };
+  }
   reloc::JobResult r = reloc::runRecordingJob({cfg, mesh, caster, weigh.get()}, jo);
+  live.finish();
   if (tty) fmt::print(stderr, "\n");
   for (const auto& w : r.warnings) fmt::print(stderr, "polyloc localize: warning: {}\n", w);
   if (!a.out.empty()) reloc::writeTum(a.out, r.frames);
@@ -166,6 +174,7 @@ void registerLocalize(CLI::App& app) {
   cmd.add_option("--out", args->out, "Write the estimate after each update as TUM");
   cmd.add_option("--plot", args->plot, "Draw map, ground truth, estimate and particle clouds as PNG");
   cmd.add_option("--csv", args->csv, "Per-frame estimate (and errors, with ground truth) as CSV");
+  addLiveOptions(cmd, args->live);
   cmd.add_flag("--json", args->json, "Print one JSON object (frames, updates, updates_per_s, wall_s, accuracy, counters)");
   cmd.callback([args] { runLocalize(*args); });
 }

@@ -11,10 +11,12 @@
 #include "cli/play_feed.hpp"
 #include "cli/play_source.hpp"
 #include "cli/play_drive.hpp"
+#include "cli/live_option.hpp"
 #include "viz/localize_plot.hpp"
 
 #include <polyloc/eval/stats.hpp>
 #include <polyloc/eval/trajectory_metrics.hpp>
+#include <polyloc/io/tum.hpp>
 #include <polyloc/map/load.hpp>
 
 #include <fmt/core.h>
@@ -31,22 +33,32 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 struct PlayArgs {
-  std::string input, scenario, shm, plot, map;
+  std::string input, scenario, shm, plot, map, truth;
   double rate = 1.0, duration = 0, wait = 10, command_latency = 0.05;
   bool json = false, quiet = false, loop = false, drive = false;
+  LiveArgs live;
 };
 
 void runPlay(const PlayArgs& a) {
   if (a.drive) {
     if (a.scenario.empty()) throw std::runtime_error("--drive needs --scenario FILE (a recording cannot be driven)");
-    if (a.loop || !a.plot.empty()) throw std::runtime_error("--drive does not take --loop or --plot");
+    if (a.loop || !a.plot.empty() || !a.truth.empty() || a.live.port)
+      throw std::runtime_error("--drive does not take --loop, --plot, --truth or --live (polylocd serves its live view)");
     runPlayDrive({a.scenario, a.shm, a.rate, a.duration, a.wait, a.command_latency, a.json, a.quiet});
     return;
   }
   if (a.input.empty() == a.scenario.empty()) throw std::runtime_error("give --input RUN or --scenario FILE (one of them)");
   if (!(a.rate > 0)) throw std::runtime_error("--rate must be > 0");
-  checkOutputs({{"--input", a.input}, {"--scenario", a.scenario}, {"--map", a.map}}, {{"--plot", a.plot}});
+  checkOutputs({{"--input", a.input}, {"--scenario", a.scenario}, {"--map", a.map}}, {{"--plot", a.plot}, {"--truth", a.truth}});
+  std::optional<TumWriter> truth_out;  // opened now: a bad path fails before the run, not after it
+  if (!a.truth.empty()) truth_out.emplace(a.truth);
   std::unique_ptr<PlaySource> src = a.input.empty() ? playScenario(a.scenario, a.duration) : playRecording(a.input);
+  // --live: polylocd's poses beside the source's truth, on the map (the scans are polylocd's view).
+  std::optional<Mesh> live_map;
+  if (a.live.port && !src->map()) {
+    if (a.map.empty()) throw std::runtime_error("--live needs --map MESH when playing a recording");
+    live_map = loadMesh(a.map);
+  }
   PlayFeed feed(a.shm, a.wait);
   if (a.rate != 1.0)
     fmt::print(stderr, "polyloc play: rate {}: stamps keep the data's own pace; polylocd needs `clock: source` "
@@ -55,6 +67,12 @@ void runPlay(const PlayArgs& a) {
   const double span = a.duration > 0 ? (a.loop ? a.duration : std::min(a.duration, src->durationS())) : src->durationS();
 
   if (a.loop && !(a.duration > 0)) throw std::runtime_error("--loop needs --duration");
+  const Rig no_rig;
+  LiveHook live(a.live, src->map() ? *src->map() : *live_map, no_rig, true);
+  if (live.on()) {
+    feed.on_pose = [&live](const polyloc_pose& p) { live.published(p); };
+    feed.on_truth = [&live](int64_t t, const Pose& p) { live.truth(t, p); };
+  }
   RecordedMessage m;
   std::optional<int64_t> first;
   int64_t offset = 0, last = 0;  // --loop: each pass continues where the last one ended
@@ -90,11 +108,16 @@ void runPlay(const PlayArgs& a) {
     }
   }
   feed.finish();  // the last poses and health
+  live.finish();
   if (!a.quiet && tty) fmt::print(stderr, "\n");
 
   const PlayResult r = feed.result();
   std::optional<TrajectoryMetrics> metrics;
   if (!r.truth.empty() && !r.estimates.empty()) metrics = evaluateTrajectory(r.estimates, GroundTruth(r.truth), {});
+  if (truth_out) {
+    for (const StampedPose& p : r.truth) truth_out->write(p);
+    truth_out->close();
+  }
   if (!a.plot.empty()) {
     Mesh loaded;
     const Mesh* map = src->map();
@@ -147,11 +170,13 @@ void registerPlay(CLI::App& app) {
   c->add_option("--wait", a->wait, "s to wait for polylocd's segment to appear")->capture_default_str()->check(finiteRange(0.0, 3600.0));
   c->add_option("--plot", a->plot, "PNG of map, ground truth and the poses polylocd published");
   addMapOption(*c, a->map, "Mesh for --plot when playing a recording");
+  c->add_option("--truth", a->truth, "TUM file of the source's ground truth, stamped as fed (to compare what viewers got)");
   c->add_flag("--drive", a->drive, "Closed loop: the robot executes the velocity commands on polylocd's cmd_vel channel "
                                     "instead of the scenario's route, in lockstep with polylocd and the controller "
                                     "(polylocd needs `clock: source` unless --rate 1; docs/navigation.md)");
   c->add_option("--command-latency", a->command_latency, "s from a command's stamp to the base acting on it (--drive)")
       ->capture_default_str()->check(finiteRange(0.0, 1.0));
+  addLiveOptions(*c, a->live, false);  // play paces with --rate
   c->add_flag("--loop", a->loop, "Start the source again at its end, until --duration (soak tests)");
   c->add_flag("--quiet", a->quiet, "No status line");
   c->add_flag("--json", a->json, "Summary as one JSON object on stdout");

@@ -2,10 +2,16 @@
 #include "cli/commands.hpp"
 
 #include <fmt/core.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include <exception>
 
 int main(int argc, char** argv) {
+  // Logs of the libraries (the live view's server, the protocol client) go to stderr: stdout is
+  // for results (--json).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("polyloc"));
+  spdlog::set_pattern("[%H:%M:%S.%e] [polyloc] [%l] %v");
   CLI::App app{"polyloc: 6-DoF localisation, virtual range scans and people tracking on polygon maps"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "polyloc 0.1.0");

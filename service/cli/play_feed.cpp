@@ -102,6 +102,7 @@ void PlayFeed::send(const RecordedMessage& m, int64_t offset_ns, int64_t first_l
   if (const auto* p = std::get_if<msg::PoseStamped>(&m.message); p && m.topic == "/ground_truth") {
     const int64_t t = msg::toNs(p->header.stamp) ? msg::toNs(p->header.stamp) : m.log_time_ns - offset_ns;
     r_.truth.push_back({t + shift, fromMsgPose(p->pose)});
+    if (on_truth) on_truth(r_.truth.back().stamp_ns, r_.truth.back().pose);
     return;
   }
   if (const auto* o = std::get_if<msg::Odometry>(&m.message)) {
@@ -130,6 +131,7 @@ void PlayFeed::poll() {
       std::memcpy(&p, buf_.data(), sizeof p);
       r_.estimates.push_back({p.stamp_ns, pipeline::posePose(p), static_cast<MclStatus>(std::min<uint32_t>(p.status, 3))});
       r_.latency_ms.push_back(double(p.latency_ns) * 1e-6);
+      if (on_pose) on_pose(p);
     }
   if (health_reader_)
     if (auto f = health_reader_->newest(buf_); f && buf_.size() >= sizeof(polyloc_health)) {

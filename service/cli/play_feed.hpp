@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -53,6 +54,10 @@ class PlayFeed {
   void keepSourceStamps(int64_t first_log_ns) { base_ns_ = first_log_ns; }
   std::string statusLine(double t_s, double span_s) const;
   PlayResult result() const;
+  // Called with each pose polylocd publishes and each ground-truth pose of the source, as they
+  // come (polyloc play --live).
+  std::function<void(const polyloc_pose&)> on_pose;
+  std::function<void(int64_t stamp_ns, const Pose& map_T_base)> on_truth;
   nlohmann::json resultJson() const;
 
  private:

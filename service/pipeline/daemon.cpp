@@ -46,6 +46,7 @@ struct Daemon::Impl final : PipelineSink {
   shm::Segment seg;
   std::vector<shm::Reader> readers;  // per input, in ChannelTable::inputs order
   std::unique_ptr<shm::Writer> w_pose, w_vrs, w_tracks, w_health;
+  std::unique_ptr<live::LiveView> live;  // null: no live view (port 0, or its port was taken)
   tbb::task_arena arena;
   std::vector<polyloc_input_health> health;
   std::vector<int64_t> last_taken_mono;  // per input: CLOCK_MONOTONIC of the last frame taken
@@ -93,6 +94,21 @@ struct Daemon::Impl final : PipelineSink {
     last_taken_mono.assign(n, 0);  // 0: nothing taken yet
     announced.assign(n, false);
     logged.assign(n, 0);
+    startLive();
+  }
+
+  // The live view is for people watching: a port in use must not keep the robot from localising.
+  void startLive() {
+    const live::LiveConfig& lc = d.cfg_.daemon.live;
+    if (lc.port == 0) return;
+    std::vector<std::string> names;
+    for (int ch : d.table_.inputs) names.push_back(d.table_.specs[size_t(ch)].name);
+    try {
+      live = std::make_unique<live::LiveView>(lc, map, d.cfg_.polyloc.rig, std::move(names));
+      spdlog::info("live view on http://{}:{}/ (Foxglove: ws://{}:{}, docs/live.md)", lc.address, live->port(), lc.address, live->port());
+    } catch (const std::exception& e) {
+      spdlog::error("{}; polylocd goes on without it", e.what());
+    }
   }
 
   const polyloc_channel_desc& desc(int input) const { return seg.channel(d.table_.inputs[size_t(input)]); }
@@ -102,6 +118,7 @@ struct Daemon::Impl final : PipelineSink {
     const polyloc_pose p = posePayload(e, map_T_odom, nowNs(CLOCK_MONOTONIC) - current_publish_ns);
     w_pose->write(&p, sizeof p, e.stamp_ns);
     d.live_->update([&](LiveState::Snapshot& s) { s.pose = p; });
+    if (live) live->pose(e, map_T_odom, &pipe->localizer().particles());
   }
   void onVrs(const VirtualScan& v) override {
     const bool enabled = d.live_->collisionAvoidance();
@@ -110,6 +127,7 @@ struct Daemon::Impl final : PipelineSink {
     d.live_->update([&](LiveState::Snapshot& s) {
       s.vrs = LiveScan{v.stamp_ns, v.angle_min + 0.5f * v.angle_increment, v.angle_increment, v.range_min, v.range_max, v.ranges};
     });
+    if (live) live->vrs(v);
   }
   void onTracks(int64_t stamp_ns, const Tracks& t) override {
     const polyloc_tracks p = tracksPayload(stamp_ns, t);
@@ -118,6 +136,7 @@ struct Daemon::Impl final : PipelineSink {
       s.tracks.assign(p.tracks, p.tracks + p.count);
       s.tracks_stamp_ns = stamp_ns;
     });
+    if (live) live->tracks(p);
   }
 
   // --- inputs ---
@@ -239,8 +258,10 @@ struct Daemon::Impl final : PipelineSink {
       case POLYLOC_KIND_RANGES: {
         const float* r = reinterpret_cast<const float*>(t.payload.data() + offsetof(polyloc_ranges, ranges));
         ok = pipe->addRanges(size_t(c.sensor), t.stamp_ns, {r, c.count}, *this);
-        if (ok && std::holds_alternative<PlanarScannerSpec>(d.cfg_.polyloc.rig.sensors[size_t(c.sensor)].spec))
+        if (ok && std::holds_alternative<PlanarScannerSpec>(d.cfg_.polyloc.rig.sensors[size_t(c.sensor)].spec)) {
           keepScan(size_t(c.sensor), t.stamp_ns, {r, c.count});
+          if (live) live->scan(size_t(c.sensor), t.stamp_ns, {r, c.count});
+        }
         break;
       }
       case POLYLOC_KIND_DEPTH: {
@@ -248,6 +269,7 @@ struct Daemon::Impl final : PipelineSink {
         std::memcpy(&h, t.payload.data(), sizeof h);
         const float* depth = reinterpret_cast<const float*>(t.payload.data() + offsetof(polyloc_depth, data));
         ok = pipe->addDepth(size_t(c.sensor), t.stamp_ns, depth, h.has_amplitude ? depth + size_t(c.width) * c.height : nullptr, *this);
+        if (ok && live && pipe->vrsEnabled()) live->depth(size_t(c.sensor), t.stamp_ns, pipe->lastDepth());
         break;
       }
       default: ok = false;
@@ -311,6 +333,7 @@ struct Daemon::Impl final : PipelineSink {
     }
     w_health->write(&h, sizeof h, h.stamp_ns);
     d.live_->update([&](LiveState::Snapshot& s) { s.health = h; });
+    if (live) live->health(h);
   }
 
   void cycle() {
@@ -361,6 +384,7 @@ void Daemon::run(const std::atomic<bool>& stop) {
   // The segment stays (STOPPED) under its name: the next start reads its generation and bumps
   // it, which is how clients still attached tell a restart.
   m.seg.stop();
+  m.live.reset();  // closes the viewers' connections
   spdlog::info("stopped after {} cycles: {} poses, {} VRS, {} track sets", m.cycles, m.pipe->counters().poses,
                m.pipe->counters().vrs, m.pipe->counters().tracks);
 }

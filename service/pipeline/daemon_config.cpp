@@ -2,6 +2,8 @@
 
 #include <polyloc/geometry/pose.hpp>
 
+#include <arpa/inet.h>
+
 #include <cctype>
 #include <cmath>
 
@@ -46,6 +48,25 @@ DaemonConfig parseDaemonConfig(ConfigMap m) {
     c.control.enabled = k.getBool("enabled", c.control.enabled);
     c.control.bind = k.getString("bind", c.control.bind);
     c.control.port = static_cast<uint16_t>(k.getCount("port", c.control.port, 0, 65535));
+    k.finish();
+  }
+  if (m.has("live")) {
+    ConfigMap k = m.map("live");
+    live::LiveConfig& l = c.live;
+    if (k.has("address")) {
+      const ConfigValue v = k.value("address");
+      l.address = v.asString();
+      in6_addr buf{};
+      if (inet_pton(AF_INET, l.address.c_str(), &buf) != 1 && inet_pton(AF_INET6, l.address.c_str(), &buf) != 1)
+        v.fail("'" + l.address + "' is not an IP address (127.0.0.1: this computer only; 0.0.0.0: every interface)");
+    }
+    l.port = static_cast<uint16_t>(k.getCount("port", l.port, 0, 65535));
+    l.max_clients = static_cast<int>(k.getCount("max_clients", l.max_clients, 1, 1000));
+    l.max_queue_mib = k.getDouble("max_queue", l.max_queue_mib, 0.01, 4096);
+    l.stall_timeout_s = k.getDouble("stall_timeout", l.stall_timeout_s, 0.1, 3600);
+    l.particles = static_cast<size_t>(k.getCount("particles", l.particles, 1, 1'000'000));
+    l.rate_hz = k.getDouble("rate", l.rate_hz, 0.01, 1000);
+    l.slice_height = float(k.getDouble("slice_height", l.slice_height, -100, 100));
     k.finish();
   }
   c.log_level = m.getChoice("log_level", c.log_level, {"trace", "debug", "info", "warn", "error", "off"});

@@ -13,8 +13,11 @@
 //     health_rate: 10        # Hz
 //     init: global           # global | ground_truth-free start pose {x, y, z, yaw, sigma_xy, sigma_yaw}
 //     control: {enabled: true, bind: 127.0.0.1, port: 7410}
+//     live: {port: 8765, address: 127.0.0.1}   # the live view (docs/live.md); port 0: off
 //     log_level: info
 #pragma once
+
+#include "live/live_view.hpp"
 
 #include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/geometry/pose.hpp>
@@ -47,6 +50,7 @@ struct DaemonConfig {
   double health_rate_hz = 10;
   std::optional<InitPose> init;  // nullopt: global localisation
   ControlConfig control;
+  live::LiveConfig live;
   std::string log_level = "info";
 };
 

@@ -28,7 +28,7 @@ extern "C" void onSignal(int) { g_stop.store(true); }
 int main(int argc, char** argv) {
   CLI::App app{"polylocd: localisation, virtual range scans and people tracking for a robot, over shared memory"};
   std::string config, instance, init, log_level;
-  int threads = -1, port = -1;
+  int threads = -1, port = -1, live_port = -1;
   bool global = false, check = false;
   app.add_option("--config", config, "polyloc config: map, robot, rig, mcl, vrs, tracking, depth_filter, polylocd")->required();
   app.add_option("--instance", instance, "Segment name /polyloc.NAME (default: polylocd.instance)");
@@ -36,6 +36,8 @@ int main(int argc, char** argv) {
   app.add_flag("--global", global, "Start with global localisation, whatever the config says");
   app.add_option("--threads", threads, "TBB threads for the kernels (0: all cores)")->check(polyloc::cli::finiteRange(0, 4096));
   app.add_option("--control-port", port, "TCP control port (0: any free one; default: polylocd.control.port)");
+  app.add_option("--live-port", live_port, "Live view port: Foxglove WebSocket and the page (0: off; default: polylocd.live.port)")
+      ->check(CLI::Range(0, 65535));
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off");
   app.add_flag("--check", check, "Validate the config and exit");
   app.set_version_flag("--version", "polylocd 0.1.0");
@@ -52,6 +54,7 @@ int main(int argc, char** argv) {
     if (!instance.empty()) d.instance = instance;
     if (threads >= 0) d.threads = threads;
     if (port >= 0) d.control.port = static_cast<uint16_t>(port);
+    if (live_port >= 0) d.live.port = static_cast<uint16_t>(live_port);
     if (!log_level.empty()) d.log_level = log_level;
     if (global) d.init.reset();
     if (!init.empty()) {

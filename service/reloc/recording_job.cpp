@@ -163,6 +163,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
 
   std::set<std::string> unknown_topics, ignored_topics;  // a few, for the error when nothing matches the rig
   bool any_frame = false;
+  Pose last_odom;  // odom_T_base of the newest odometry (the live view's map -> odom)
   RecordedMessage m;
   while (reader->next(m)) {
     if (m.log_time_ns < o.read_from_ns) continue;  // before this segment's warm-up
@@ -180,7 +181,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       stamps.add(m.topic, messageStamp(m), read - 1);
       const int64_t t = msg::toNs(od->header.stamp) ? msg::toNs(od->header.stamp) : m.log_time_ns;
       if (!initialised && t >= start_after) initialise(t);
-      timed([&] { loc.addOdometry(t, fromMsgPose(od->pose.pose)); });
+      last_odom = fromMsgPose(od->pose.pose);
+      timed([&] { loc.addOdometry(t, last_odom); });
       continue;
     }
     const TopicRouter::Result r = router.route(m.topic, m.log_time_ns, m.message, ranges);
@@ -217,9 +219,11 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       initialise(r.stamp_ns);
     }
     bool updated = false;
+    if (o.on_frame) o.on_frame(static_cast<size_t>(r.sensor), r.stamp_ns, ranges);
     timed([&] { updated = loc.addScan(static_cast<size_t>(r.sensor), r.stamp_ns, ranges); });
     if (!updated) continue;
     const MclEstimate e = loc.estimate();
+    if (o.on_update) o.on_update(e, loc.particles(), last_odom);
     if (e.stamp_ns < o.keep_from_ns || e.stamp_ns >= o.keep_to_ns) continue;  // warm-up
     res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles, e.seen_through, e.refined,
                           e.map_fit});

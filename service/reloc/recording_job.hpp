@@ -26,6 +26,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,10 @@ struct JobOptions {
   std::function<void(double fraction, uint64_t updates)> progress;
   // Warnings (once per kind) and notes as they come, without the "polyloc ...:" prefix.
   std::function<void(const std::string&)> log;
+  // Live hooks (polyloc localize --live), from this thread: each range frame the filter takes,
+  // and each measurement update with the particles and the newest odometry pose.
+  std::function<void(size_t sensor, int64_t stamp_ns, std::span<const float> ranges)> on_frame;
+  std::function<void(const MclEstimate&, const ParticleSet&, const Pose& odom_T_base)> on_update;
 };
 
 // One kept estimate: what the per-frame CSV and the TUM file hold.

@@ -2,7 +2,8 @@
 # Cross-check of our MCAP and CDR against independent implementations: the fixture writer puts
 # every message type with known values into MCAP files (zstd, lz4, uncompressed), and
 # tests/js/check_mcap.mjs reads them with @mcap/core and @foxglove/rosmsg2-serialization
-# (versions pinned in tests/js/package-lock.json, installed here with npm ci when missing or stale).
+# (versions pinned in tests/js/package-lock.json, installed with npm ci when missing or stale:
+# npm_deps.sh).
 # Usage: bash mcap_crosscheck.sh <path-to-polyloc> <source-dir> <path-to-mcap_fixture_writer>
 set -euo pipefail
 source_dir=$2
@@ -12,19 +13,8 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
-command -v node >/dev/null || fail "node is not on PATH (needed for the MCAP cross-check)"
-command -v npm >/dev/null || fail "npm is not on PATH (needed for the MCAP cross-check)"
-
-# npm writes node_modules/.package-lock.json on install: older than the lock file means stale.
-# The lock keeps two test runs (two build dirs) from installing into the same folder at once.
-(
-  flock 9
-  stamp="$js/node_modules/.package-lock.json"
-  if [ ! -f "$stamp" ] || [ "$js/package-lock.json" -nt "$stamp" ] || [ "$js/package.json" -nt "$stamp" ]; then
-    (cd "$js" && npm ci --no-audit --no-fund --loglevel=error) >"$tmp/npm.log" 2>&1 ||
-      { cat "$tmp/npm.log" >&2; fail "npm ci in $js failed"; }
-  fi
-) 9>"${TMPDIR:-/tmp}/polyloc-npm-$(id -u).lock"
+source "$source_dir/tests/cli/npm_deps.sh"
+npm_deps "$js" "the MCAP cross-check"
 
 passed=0
 for compression in zstd lz4 none; do

@@ -55,6 +55,10 @@ inline std::vector<msg::Message> sampleMessages(int k = 0) {
   tracks.tracks.push_back({7, 1, 2.5 + k, -1.25, 0.9, -0.1, {0.01, 0.002, 0.002, 0.02}});
   tracks.tracks.push_back({9, 0, -3.0, 4.0, 0.0, 0.0, {0.25, 0, 0, 0.25}});
   out.push_back(tracks);
+
+  PoseWithCovarianceStamped pwc{{h.stamp, "map"}, {{{1.52 + k, -0.23, 0.003}, {0, 0, 0.0998, 0.995}}, {}}};
+  for (int i = 0; i < 36; ++i) pwc.pose.covariance[i] = 0.002 * i - 0.01;
+  out.push_back(pwc);
   return out;
 }
 

@@ -73,6 +73,7 @@ class Dump {
     }
   }
   void operator()(const msg::PoseStamped& p) { header(p.header), pose(p.pose); }
+  void operator()(const msg::PoseWithCovarianceStamped& p) { header(p.header), pose(p.pose.pose), pod(p.pose.covariance); }
   void operator()(const msg::TrackArray& a) {
     header(a.header);
     for (const auto& t : a.tracks) pod(t.id), pod(t.status), pod(t.x), pod(t.y), pod(t.vx), pod(t.vy), pod(t.covariance);

@@ -29,7 +29,7 @@ struct Written {
 // Every sample type on its own topic, `rounds` times, 10 ms apart.
 std::vector<Written> sampleRun(int rounds) {
   static const char* topics[] = {"/scan_front", "/points", "/tof/depth", "/tof/camera_info",
-                                 "/odom", "/tf", "/ground_truth", "/tracks"};
+                                 "/odom", "/tf", "/ground_truth", "/tracks", "/amcl_pose"};
   std::vector<Written> out;
   for (int k = 0; k < rounds; ++k) {
     auto msgs = sampleMessages(k);
@@ -123,7 +123,7 @@ TEST(Mcap, RoundTripEachCompression) {
     auto r = openMcap(path);
     EXPECT_EQ(r->format(), "mcap");
     auto topics = r->topics();
-    ASSERT_EQ(topics.size(), 8u);
+    ASSERT_EQ(topics.size(), 9u);  // one per message type
     EXPECT_EQ(topics[0].name, "/scan_front");
     EXPECT_EQ(topics[0].type, "sensor_msgs/msg/LaserScan");
     EXPECT_EQ(topics[0].count, 40u);

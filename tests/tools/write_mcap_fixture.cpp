@@ -94,6 +94,9 @@ json toJson(const msg::TFMessage& m) {
   return {{"transforms", a}};
 }
 json toJson(const msg::PoseStamped& m) { return {{"header", toJson(m.header)}, {"pose", toJson(m.pose)}}; }
+json toJson(const msg::PoseWithCovarianceStamped& m) {
+  return {{"header", toJson(m.header)}, {"pose", {{"pose", toJson(m.pose.pose)}, {"covariance", nums(m.pose.covariance)}}}};
+}
 // Not in the fixture (its schema is polyloc's own, not in rosmsg-msgs-common), but every type has one.
 json toJson(const msg::TrackArray& m) {
   json a = json::array();
@@ -170,6 +173,9 @@ std::vector<std::pair<std::string, msg::Message>> round(int k, int64_t t) {
   }
   out.emplace_back("/ground_truth", msg::PoseStamped{header(t + 5000, "map"),
                                                      {{1.5 * k + 0.01, -0.24, 0.002}, {0.001, -0.002, 0.0998, 0.995}}});
+  msg::PoseWithCovarianceStamped amcl{header(t + 6000, "map"), {{{1.5 * k, -0.2, 0.0}, {0, 0, 0.0998, 0.995}}, {}}};
+  for (int i = 0; i < 36; ++i) amcl.pose.covariance[i] = i % 7 == 0 ? 0.02 * (i + 1) : -1e-6 * i;
+  out.emplace_back("/pose", amcl);  // what the live view sends (docs/live.md)
   return out;
 }
 

@@ -138,6 +138,11 @@ pb::dict convert(const msg::PoseStamped& p) {
   d["pose"] = poseOf(p.pose);
   return d;
 }
+pb::dict convert(const msg::PoseWithCovarianceStamped& p) {
+  pb::dict d = headed("geometry_msgs/msg/PoseWithCovarianceStamped", p.header);
+  d["pose"] = poseOf(p.pose.pose), d["covariance"] = square(p.pose.covariance, 6);
+  return d;
+}
 pb::dict convert(const msg::TrackArray& t) {
   pb::dict d = headed("polyloc_msgs/msg/TrackArray", t.header);
   const auto n = static_cast<pb::ssize_t>(t.tracks.size());

@@ -33,6 +33,7 @@ struct Quaternion { double x = 0, y = 0, z = 0, w = 1; };
 struct Pose { Point position; Quaternion orientation; };             // geometry_msgs/Pose
 struct PoseStamped { Header header; Pose pose; };
 struct PoseWithCovariance { Pose pose; std::array<double, 36> covariance{}; };
+struct PoseWithCovarianceStamped { Header header; PoseWithCovariance pose; };  // AMCL's /amcl_pose
 struct Twist { Vector3 linear, angular; };
 struct TwistWithCovariance { Twist twist; std::array<double, 36> covariance{}; };
 struct Transform { Vector3 translation; Quaternion rotation; };
@@ -113,7 +114,8 @@ struct TrackArray {
   std::vector<Track> tracks;
 };
 
-using Message = std::variant<LaserScan, PointCloud2, Image, CameraInfo, Odometry, TFMessage, PoseStamped, TrackArray>;
+using Message = std::variant<LaserScan, PointCloud2, Image, CameraInfo, Odometry, TFMessage, PoseStamped, TrackArray,
+                             PoseWithCovarianceStamped>;
 
 // ROS 2 type name of a message ("sensor_msgs/msg/LaserScan", ...).
 const char* typeName(const Message& m);
