@@ -2,14 +2,18 @@
 # What viewers cost polylocd (not in `make test`): the lab tour played at real time into
 # polylocd, as bench/e2e_latency.sh, once with 0, 1 and 5 viewers attached to its live view
 # (tests/js/live_viewer.mjs: every channel subscribed and read, as Foxglove with all panels).
-# Prints per run the scan-to-pose latency (p50, p99, max), polylocd's CPU (per cent of one core
-# over the run), the frames lost, and what the viewers received; one JSON object on stdout.
-#   bench/live_viewers.sh [BUILD_DIR] [DURATION_S] [OUT_DIR] [VIEWERS...]
+# The viewer counts take turns, REPEATS rounds of them (the machine's noise moves a p99 of 500
+# poses by 20 % from run to run; taking turns spreads it over all counts alike). Prints per count
+# the median over the rounds of the scan-to-pose latency (p50, p99, max), polylocd's CPU (per cent
+# of one core over the run), the frames lost in all, and what the viewers received; one JSON
+# object on stdout.
+#   bench/live_viewers.sh [BUILD_DIR] [DURATION_S] [OUT_DIR] [REPEATS] [VIEWERS...]
 set -euo pipefail
 build=${1:-build}
 duration=${2:-60}
 out=${3:-$build/live_viewers}
-shift $(( $# < 3 ? $# : 3 ))
+repeats=${4:-3}
+shift $(( $# < 4 ? $# : 4 ))
 counts=(0 1 5)
 [ $# -gt 0 ] && counts=("$@")
 mkdir -p "$out"
@@ -28,46 +32,53 @@ cleanup() {
 trap cleanup EXIT
 cpu_ticks() { awk '{print $14 + $15}' "/proc/$1/stat"; }
 
+for r in $(seq 1 "$repeats"); do
 for n in "${counts[@]}"; do
-  echo "live_viewers: $n viewer(s), ${duration} s of the lab tour" >&2
+  echo "live_viewers: round $r of $repeats: $n viewer(s), ${duration} s of the lab tour" >&2
   "$build/bin/polylocd" --config "$out/lab_live.yaml" --instance live_bench_$$ --control-port 0 --live-port "$port" \
     --init 1.3,1.75,0 2>"$out/polylocd_$n.log" &
   pid=$!
   for _ in $(seq 100); do curl -sf -o /dev/null "http://127.0.0.1:$port/" && break; sleep 0.1; done
   viewers=()
   for k in $(seq 1 "$n"); do
-    node tests/js/live_viewer.mjs "ws://127.0.0.1:$port" >"$out/viewer_${n}_$k.json" &
+    node tests/js/live_viewer.mjs "ws://127.0.0.1:$port" >"$out/viewer_${n}_${r}_$k.json" &
     viewers+=($!)
   done
   sleep 1
   t0=$(cpu_ticks $pid)
   "$build/bin/polyloc" play --scenario maps/scenarios/lab_tour.yaml --shm live_bench_$$ --duration "$duration" --json \
-    --quiet >"$out/play_$n.json"
+    --quiet >"$out/play_${n}_$r.json"
   t1=$(cpu_ticks $pid)
   for v in "${viewers[@]}"; do kill -TERM "$v"; wait "$v" || true; done
   viewers=()
   kill -INT "$pid"; wait "$pid"; pid=
-  echo "$(( t1 - t0 ))" >"$out/cpu_ticks_$n"
+  echo "$(( t1 - t0 ))" >"$out/cpu_ticks_${n}_$r"
+done
 done
 
-/usr/bin/python3 - "$out" "$duration" "$(getconf CLK_TCK)" "${counts[@]}" <<'PY'
-import json, os, sys
-out, duration, hz, counts = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), sys.argv[4:]
+/usr/bin/python3 - "$out" "$duration" "$(getconf CLK_TCK)" "$repeats" "${counts[@]}" <<'PY'
+import json, statistics, sys
+out, duration, hz, repeats, counts = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), sys.argv[5:]
+med = statistics.median
 runs = {}
 for n in counts:
-    j = json.load(open(f"{out}/play_{n}.json"))
-    ticks = float(open(f"{out}/cpu_ticks_{n}").read())
-    got = [json.loads(open(f"{out}/viewer_{n}_{k}.json").read() or "{}") for k in range(1, int(n) + 1)]
-    runs[n] = {"latency_ms": j["latency_ms"], "poses": j["poses"], "lost": j["dropped"] + j["rejected"],
-               "cpu_percent": 100.0 * ticks / hz / duration,
-               "viewer_messages": [g.get("messages", 0) for g in got], "viewer_mib": [g.get("bytes", 0) / 2**20 for g in got]}
+    plays = [json.load(open(f"{out}/play_{n}_{r}.json")) for r in range(1, repeats + 1)]
+    cpu = [100.0 * float(open(f"{out}/cpu_ticks_{n}_{r}").read()) / hz / duration for r in range(1, repeats + 1)]
+    got = [json.loads(open(f"{out}/viewer_{n}_{r}_{k}.json").read() or "{}")
+           for r in range(1, repeats + 1) for k in range(1, int(n) + 1)]
+    lat = {q: med([p["latency_ms"][q] for p in plays]) for q in ("p50", "p99", "max")}
+    runs[n] = {"latency_ms": lat, "p99_each_ms": [p["latency_ms"]["p99"] for p in plays],
+               "poses": med([p["poses"] for p in plays]), "lost": sum(p["dropped"] + p["rejected"] for p in plays),
+               "cpu_percent": med(cpu), "viewer_messages": med([g.get("messages", 0) for g in got]) if got else 0,
+               "viewer_mib_per_s": med([g.get("bytes", 0) / 2**20 / duration for g in got]) if got else 0}
     r = runs[n]
-    print(f"{n} viewer(s): latency p50 {r['latency_ms']['p50']:.2f} ms  p99 {r['latency_ms']['p99']:.2f} ms  "
-          f"max {r['latency_ms']['max']:.2f} ms  cpu {r['cpu_percent']:.0f}%  lost {r['lost']}  "
-          f"viewers got {r['viewer_messages']} messages", file=sys.stderr)
-res = {"duration_s": duration, "runs": runs}
+    print(f"{n} viewer(s), median of {repeats}: latency p50 {lat['p50']:.2f} ms  p99 {lat['p99']:.2f} ms "
+          f"(each {', '.join(f'{v:.1f}' for v in r['p99_each_ms'])})  max {lat['max']:.2f} ms  cpu {r['cpu_percent']:.0f}%  "
+          f"lost {r['lost']}  each viewer got {r['viewer_messages']:.0f} messages, {r['viewer_mib_per_s']:.2f} MiB/s", file=sys.stderr)
+res = {"duration_s": duration, "repeats": repeats, "runs": runs}
 if "0" in runs:
     base = runs["0"]["latency_ms"]["p99"]
     res["p99_ratio"] = {n: runs[n]["latency_ms"]["p99"] / base for n in runs if n != "0"}
+    res["cpu_ratio"] = {n: runs[n]["cpu_percent"] / runs["0"]["cpu_percent"] for n in runs if n != "0"}
 print(json.dumps(res))
 PY

@@ -112,13 +112,15 @@ struct FoxgloveServer::Impl {
       return false;
     }
     c.over_since = {};
-    std::vector<uint8_t> frame(13 + payload.size());
-    frame[0] = kOpMessageData;
-    std::memcpy(&frame[1], &sub, 4);  // little endian (x86, ARM: the hosts polylocd runs on)
-    std::memcpy(&frame[5], &stamp, 8);
-    if (!payload.empty()) std::memcpy(&frame[13], payload.data(), payload.size());
-    websocketpp::lib::error_code ec;
-    ws.send(c.hdl, frame.data(), frame.size(), websocketpp::frame::opcode::binary, ec);
+    // opcode, subscription id, timestamp, payload: written once into the connection's message.
+    uint8_t head[13];
+    head[0] = kOpMessageData;
+    std::memcpy(&head[1], &sub, 4);  // little endian (x86, ARM: the hosts polylocd runs on)
+    std::memcpy(&head[5], &stamp, 8);
+    WsServer::message_ptr msg = con->get_message(websocketpp::frame::opcode::binary, sizeof head + payload.size());
+    msg->append_payload(head, sizeof head);
+    msg->append_payload(payload.data(), payload.size());
+    const websocketpp::lib::error_code ec = con->send(msg);
     if (!ec) count([](ServerStats& s) { ++s.messages_sent; });
     return !ec;
   }
@@ -223,6 +225,7 @@ struct FoxgloveServer::Impl {
   void onHttp(Hdl h) {
     WsServer::connection_ptr con = ws.get_con_from_hdl(h);
     count([](ServerStats& s) { ++s.http_requests; });
+    con->append_header("Connection", "close");  // websocketpp answers one request per connection
     const std::string& path = con->get_resource();
     if ((path == "/" || path == "/index.html") && !cfg.page.empty()) {
       con->set_status(websocketpp::http::status_code::ok);

@@ -193,6 +193,17 @@ Bytes depthCdr(int64_t stamp_ns, const DepthFilterResult& d) {
   return cloud(stamp_ns, "base_link", {field("x", 0), field("y", 4), field("z", 8)}, std::move(v));
 }
 
+Bytes rangesCloudCdr(int64_t stamp_ns, const std::string& frame, const BeamSet& beams, std::span<const float> ranges) {
+  std::vector<float> v;
+  v.reserve(3 * ranges.size());
+  for (size_t i = 0; i < ranges.size() && i < beams.size(); ++i) {
+    const float r = ranges[i];
+    if (!(r >= beams.range_min && r <= beams.range_max)) continue;  // NaN, no return, out of range
+    v.insert(v.end(), {r * beams.dx[i], r * beams.dy[i], r * beams.dz[i]});
+  }
+  return cloud(stamp_ns, frame, {field("x", 0), field("y", 4), field("z", 8)}, std::move(v));
+}
+
 Bytes topViewJson(const TopView& v) {
   json pose = nullptr;
   if (v.have_pose) {

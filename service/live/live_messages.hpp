@@ -49,6 +49,8 @@ Bytes laserScanCdr(int64_t stamp_ns, const std::string& frame, const ScanShape& 
 Bytes vrsCdr(const VirtualScan& v);                // LaserScan in base_link
 Bytes tracksCdr(const polyloc_tracks& t);          // polyloc_msgs/TrackArray in map
 Bytes depthCdr(int64_t stamp_ns, const DepthFilterResult& d);  // PointCloud2 x y z in base_link
+// A lidar's frame as PointCloud2 x y z in the sensor's frame: the returns within its range.
+Bytes rangesCloudCdr(int64_t stamp_ns, const std::string& frame, const BeamSet& beams, std::span<const float> ranges);
 
 // polyloc.TopView: what the page draws, in map coordinates (see page.html).
 struct TopView {

@@ -31,11 +31,15 @@ LiveView::LiveView(const LiveConfig& cfg, const Mesh& map, const Rig& rig, std::
   ch_vrs_ = server_.addChannel(cdrChannel("/vrs", "sensor_msgs/msg/LaserScan"));
   ch_tracks_ = server_.addChannel(cdrChannel("/tracks", "polyloc_msgs/msg/TrackArray"));
   ch_scan_.assign(rig.size(), 0), ch_depth_.assign(rig.size(), 0), last_depth_ns_.assign(rig.size(), INT64_MIN);
+  beams_.resize(rig.size());
   for (size_t i = 0; i < rig.size(); ++i) {
     const Sensor& s = rig.sensors[i];
-    if (std::holds_alternative<PlanarScannerSpec>(s.spec))
+    if (std::holds_alternative<PlanarScannerSpec>(s.spec)) {
       ch_scan_[i] = server_.addChannel(cdrChannel("/scan/" + s.name, "sensor_msgs/msg/LaserScan"));
-    else if (std::holds_alternative<DepthCameraSpec>(s.spec))
+    } else if (std::holds_alternative<LidarSpec>(s.spec)) {
+      ch_scan_[i] = server_.addChannel(cdrChannel("/points/" + s.name, "sensor_msgs/msg/PointCloud2"));
+      beams_[i] = s.beams();
+    } else if (std::holds_alternative<DepthCameraSpec>(s.spec))
       ch_depth_[i] = server_.addChannel(cdrChannel("/depth/" + s.name + "/points", "sensor_msgs/msg/PointCloud2"));
   }
   if (cfg.ground_truth) ch_truth_ = server_.addChannel(cdrChannel("/ground_truth", "geometry_msgs/msg/PoseStamped"));
@@ -51,7 +55,8 @@ LiveView::LiveView(const LiveConfig& cfg, const Mesh& map, const Rig& rig, std::
 LiveView::~LiveView() { server_.stop(); }
 
 bool LiveView::due(int64_t& last_ns, int64_t stamp_ns) const {
-  // Data time, not wall time: a replay at 10x shows the same frames as one at 1x.
+  // Data time, not wall time: a replay at 10x shows the same frames as one at 1x. At least a
+  // period apart (poses at a jittered 100 ms then give 6 to 7 Hz, never more than the rate).
   if (last_ns != INT64_MIN && stamp_ns >= last_ns && double(stamp_ns - last_ns) < 1e9 / cfg_.rate_hz) return false;
   last_ns = stamp_ns;
   return true;
@@ -104,6 +109,11 @@ void LiveView::tracks(const polyloc_tracks& t) {
 void LiveView::scan(size_t sensor, int64_t stamp_ns, std::span<const float> ranges) {
   if (sensor >= ch_scan_.size() || !ch_scan_[sensor] || !server_.subscribed(ch_scan_[sensor])) return;
   const Sensor& s = rig_.sensors[sensor];
+  if (!std::holds_alternative<PlanarScannerSpec>(s.spec)) {
+    if (due(last_depth_ns_[sensor], stamp_ns))
+      server_.publish(ch_scan_[sensor], uint64_t(stamp_ns), rangesCloudCdr(stamp_ns, s.name, beams_[sensor], ranges));
+    return;
+  }
   const auto& spec = std::get<PlanarScannerSpec>(s.spec);
   const ScanShape shape{float(spec.angleMin()), float(spec.resolution_rad), float(spec.range_min), float(spec.range_max)};
   server_.publish(ch_scan_[sensor], uint64_t(stamp_ns), laserScanCdr(stamp_ns, s.name, shape, ranges));

@@ -40,7 +40,8 @@ class LiveView {
   void groundTruth(int64_t stamp_ns, const Pose& map_T_base);  // needs LiveConfig::ground_truth
   void vrs(const VirtualScan& v);
   void tracks(const polyloc_tracks& t);
-  void scan(size_t sensor, int64_t stamp_ns, std::span<const float> ranges);  // planar scanners
+  // A range sensor's frame: planar scanners as LaserScan, lidars as a cloud (at most `rate`).
+  void scan(size_t sensor, int64_t stamp_ns, std::span<const float> ranges);
   void depth(size_t sensor, int64_t stamp_ns, const DepthFilterResult& d);
   void health(const polyloc_health& h);
 
@@ -60,7 +61,8 @@ class LiveView {
   std::vector<uint32_t> ch_scan_, ch_depth_;  // per rig sensor, 0: none
   TopView view_;                              // what the next top view shows
   int64_t last_particles_ns_ = INT64_MIN, last_view_ns_ = INT64_MIN;
-  std::vector<int64_t> last_depth_ns_;
+  std::vector<int64_t> last_depth_ns_;  // per sensor: depth cameras and lidars (rate)
+  std::vector<BeamSet> beams_;           // per sensor: lidars' beam directions
 };
 
 }  // namespace polyloc::live

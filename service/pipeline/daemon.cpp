@@ -258,10 +258,9 @@ struct Daemon::Impl final : PipelineSink {
       case POLYLOC_KIND_RANGES: {
         const float* r = reinterpret_cast<const float*>(t.payload.data() + offsetof(polyloc_ranges, ranges));
         ok = pipe->addRanges(size_t(c.sensor), t.stamp_ns, {r, c.count}, *this);
-        if (ok && std::holds_alternative<PlanarScannerSpec>(d.cfg_.polyloc.rig.sensors[size_t(c.sensor)].spec)) {
+        if (ok && std::holds_alternative<PlanarScannerSpec>(d.cfg_.polyloc.rig.sensors[size_t(c.sensor)].spec))
           keepScan(size_t(c.sensor), t.stamp_ns, {r, c.count});
-          if (live) live->scan(size_t(c.sensor), t.stamp_ns, {r, c.count});
-        }
+        if (ok && live) live->scan(size_t(c.sensor), t.stamp_ns, {r, c.count});
         break;
       }
       case POLYLOC_KIND_DEPTH: {

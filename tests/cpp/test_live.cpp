@@ -138,6 +138,19 @@ TEST(LiveMessages, ScansVrsTracksAndDepth) {
   EXPECT_DOUBLE_EQ(ta.tracks[0].vy, -0.25);
   EXPECT_EQ(ta.tracks[1].status, 0);
 
+  BeamSet beams;
+  beams.push(1, 0, 0), beams.push(0, 1, 0), beams.push(0, 0.6f, 0.8f), beams.push(0, 0, 1);
+  beams.range_min = 0.1f, beams.range_max = 10.f;
+  const std::vector<float> lidar{2.f, std::numeric_limits<float>::quiet_NaN(), 5.f, 50.f};  // NaN, beyond range_max: none
+  const auto lc = decode<msg::PointCloud2>("sensor_msgs/msg/PointCloud2", rangesCloudCdr(15, "vlp16", beams, lidar));
+  EXPECT_EQ(lc.header.frame_id, "vlp16");
+  ASSERT_EQ(lc.width, 2u);
+  float q[6];
+  std::memcpy(q, lc.data.data(), sizeof q);
+  EXPECT_FLOAT_EQ(q[0], 2.f);
+  EXPECT_FLOAT_EQ(q[4], 3.f);
+  EXPECT_FLOAT_EQ(q[5], 4.f);
+
   DepthFilterResult d;
   d.x = {1, 2}, d.y = {0, 0.5}, d.z = {0.3, 0.4};
   const auto c = decode<msg::PointCloud2>("sensor_msgs/msg/PointCloud2", depthCdr(13, d));
