@@ -87,9 +87,9 @@ step "protocol checks ok: $(grep -c '^(c)' "$tmp/protocol.log") malformed-messag
 # The viewers of the run: Foxglove's client (ends when play has written the truth) and one that
 # stops reading. Both subscribed before play starts.
 node "$js/check_live_foxglove.mjs" "ws://127.0.0.1:$port" --until-file "$tmp/truth.tum" --stall-check \
-  --timeout 150 --out "$tmp/foxglove.json" > "$tmp/foxglove.log" 2>&1 &
+  --timeout 240 --out "$tmp/foxglove.json" > "$tmp/foxglove.log" 2>&1 &
 fox=$!; bg+=("$fox")
-node "$js/stall_live_client.mjs" "ws://127.0.0.1:$port" --timeout 90 > "$tmp/stall.log" 2>&1 &
+node "$js/stall_live_client.mjs" "ws://127.0.0.1:$port" --timeout 200 > "$tmp/stall.log" 2>&1 &
 stall=$!; bg+=("$stall")
 for _ in $(seq 150); do
   grep -q "subscribed to" "$tmp/foxglove.log" && grep -q "stopped reading" "$tmp/stall.log" && break
@@ -100,9 +100,18 @@ grep -q "subscribed to" "$tmp/foxglove.log" || { show "check_live_foxglove" "$tm
 grep -q "stopped reading" "$tmp/stall.log" || { show "stall_live_client" "$tmp/stall.log"; fail "the stalling client did not subscribe"; }
 step "Foxglove client and stalling client subscribed; play 20 s of the lab tour"
 
-# The page, headless, a few seconds into play (it needs poses to draw).
-( sleep 3; exec node "$js/check_live_page.mjs" "$url" --shots 2 --interval-ms 2000 --out "$tmp/shots" ) > "$tmp/page.log" 2>&1 &
+# The page, headless, connected before play starts (a browser starting on a loaded machine can
+# take longer than the run); it waits for poses, then takes two shots 2 s apart.
+node "$js/check_live_page.mjs" "$url" --shots 2 --interval-ms 2000 --out "$tmp/shots" --ready-file "$tmp/page.ready" \
+  > "$tmp/page.log" 2>&1 &
 page=$!; bg+=("$page")
+for _ in $(seq 900); do  # 90 s
+  [ -f "$tmp/page.ready" ] && break
+  kill -0 "$page" 2>/dev/null || break
+  sleep 0.1
+done
+[ -f "$tmp/page.ready" ] || { show "check_live_page" "$tmp/page.log"; fail "the page did not connect within 90 s"; }
+step "page connected in headless Chromium"
 play_rc=0
 timeout 120 "$POLYLOC" play --scenario maps/scenarios/lab_tour.yaml --shm "$instance" --duration 20 --json --quiet \
   --truth "$tmp/truth.tum" > "$tmp/play.json" 2> "$tmp/play.err" || play_rc=$?

@@ -13,7 +13,7 @@ import { PNG } from "pngjs";
 
 const BAR = 24, M = 20;               // page.html's status bar height and margin
 const VIEW = { width: 900, height: 600 };
-const CONNECT_TIMEOUT_MS = 20000;
+const CONNECT_TIMEOUT_MS = 60000;  // a browser starting on a loaded 2-core machine is slow
 const MAX_ERROR_PX = 3, MIN_MARKER_PX = 20;
 
 function usage(msg) {
@@ -22,13 +22,14 @@ function usage(msg) {
 }
 
 function parseArgs(argv) {
-  const opt = { url: null, shots: 2, intervalMs: 1500, out: null, expectMove: 0.2 };
+  const opt = { url: null, shots: 2, intervalMs: 1500, out: null, expectMove: 0.2, readyFile: null };
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i], val = () => (i + 1 < argv.length ? argv[++i] : usage(`${a} needs a value`));
     if (a === "--shots") opt.shots = Number(val());
     else if (a === "--interval-ms") opt.intervalMs = Number(val());
     else if (a === "--out") opt.out = val();
     else if (a === "--expect-move") opt.expectMove = Number(val());
+    else if (a === "--ready-file") opt.readyFile = val();
     else if (a.startsWith("--")) usage(`unknown option ${a}`);
     else if (!opt.url) opt.url = a;
     else usage(`unexpected argument ${a}`);
@@ -89,9 +90,20 @@ async function run(opt, state) {
     if (pageErrors.length) fail(`page error: ${pageErrors[0]}`);
   };
 
-  const resp = await page.goto(opt.url, { waitUntil: "load", timeout: 15000 })
+  const resp = await page.goto(opt.url, { waitUntil: "load", timeout: 45000 })
     .catch((e) => fail(`cannot load ${opt.url}: ${e.message.split("\n")[0]}`));
   if (!resp || !resp.ok()) fail(`GET ${opt.url}: ${resp ? resp.status() : "no response"}`);
+  // Connected and the map drawn: say so (the test starts the data only then: a browser starting
+  // on a loaded machine must not miss it), then wait for the robot.
+  if (opt.readyFile) {
+    try {
+      await page.waitForFunction(() => window.polyloc && window.polyloc.connected && window.polyloc.bounds, null,
+                                 { timeout: CONNECT_TIMEOUT_MS, polling: 100 });
+    } catch (e) {
+      fail(`page not connected within ${CONNECT_TIMEOUT_MS / 1000} s`);
+    }
+    writeFileSync(opt.readyFile, "connected\n");
+  }
   try {
     await page.waitForFunction(
       () => window.polyloc && window.polyloc.connected && window.polyloc.frames >= 3 && window.polyloc.pose,
@@ -165,7 +177,7 @@ async function run(opt, state) {
 const opt = parseArgs(process.argv.slice(2));
 const state = { browser: null };
 // Bound the whole run: launch, connect, shots, close.
-const budgetMs = 30000 + CONNECT_TIMEOUT_MS + 15000 + opt.shots * (opt.intervalMs + 5000);
+const budgetMs = 30000 + CONNECT_TIMEOUT_MS * (opt.readyFile ? 2 : 1) + 45000 + opt.shots * (opt.intervalMs + 5000);
 const watchdog = setTimeout(() => {
   console.error(`FAIL: check_live_page took more than ${Math.round(budgetMs / 1000)} s`);
   process.exit(1);  // the browser process is killed with us (playwright's exit handler)
