@@ -55,9 +55,7 @@ void LiveHook::published(const polyloc_pose& p) {
   e.covariance = Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(p.covariance);
   e.status = static_cast<MclStatus>(std::min<uint32_t>(p.status, 3));
   e.particles = p.particles, e.ess = p.ess, e.updates = p.updates;
-  const Pose map_T_odom(Eigen::Quaterniond(p.map_odom[3], p.map_odom[4], p.map_odom[5], p.map_odom[6]),
-                        Eigen::Vector3d(p.map_odom[0], p.map_odom[1], p.map_odom[2]));
-  view_->pose(e, map_T_odom, nullptr);
+  view_->pose(e, pipeline::mapOdomPose(p), nullptr);
 }
 
 void LiveHook::truth(int64_t stamp_ns, const Pose& map_T_base) {

@@ -134,8 +134,13 @@ Bytes groundTruthCdr(int64_t stamp_ns, const Pose& map_T_base) {
   return msg::encodeCdr(msg::PoseStamped{header(stamp_ns, "map"), toMsgPose(map_T_base)});
 }
 
+size_t particleStride(size_t n, size_t max_points) {
+  const size_t m = std::max<size_t>(1, max_points);
+  return std::max<size_t>(1, (n + m - 1) / m);
+}
+
 Bytes particlesCdr(int64_t stamp_ns, const ParticleSet& p, size_t max_points) {
-  const size_t n = p.size(), step = std::max<size_t>(1, (n + std::max<size_t>(1, max_points) - 1) / std::max<size_t>(1, max_points));
+  const size_t n = p.size(), step = particleStride(n, max_points);
   const double top = n ? *std::max_element(p.logw.begin(), p.logw.end()) : 0.0;
   std::vector<float> v;
   v.reserve(5 * (n / step + 1));

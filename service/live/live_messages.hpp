@@ -37,6 +37,8 @@ Bytes groundTruthCdr(int64_t stamp_ns, const Pose& map_T_base);  // geometry_msg
 // sensor_msgs/PointCloud2 in map: x y z yaw weight (float32), every k-th particle so that at
 // most `max_points` go out; weight normalised to the largest of the set.
 Bytes particlesCdr(int64_t stamp_ns, const ParticleSet& p, size_t max_points);
+// Every k-th of n particles so that at most max_points remain (the cloud and the top view).
+size_t particleStride(size_t n, size_t max_points);
 // /tf: map -> odom (the correction) and odom -> base_link.
 Bytes tfCdr(int64_t stamp_ns, const Pose& map_T_odom, const Pose& odom_T_base);
 // /tf_static: base_link -> every sensor of the rig (the frames scans and clouds are in).

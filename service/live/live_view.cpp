@@ -73,7 +73,7 @@ void LiveView::pose(const MclEstimate& e, const Pose& map_T_odom, const Particle
   if (particles && (view || server_.subscribed(ch_particles_)) && due(last_particles_ns_, e.stamp_ns)) {
     if (server_.subscribed(ch_particles_)) server_.publish(ch_particles_, uint64_t(e.stamp_ns), particlesCdr(e.stamp_ns, *particles, cfg_.particles));
     if (view) {
-      const size_t n = particles->size(), step = std::max<size_t>(1, (n + cfg_.particles - 1) / std::max<size_t>(1, cfg_.particles));
+      const size_t n = particles->size(), step = particleStride(n, cfg_.particles);
       view_.particles.clear();
       for (size_t i = 0; i < n; i += step) {
         const Pose p = particles->pose(i);
@@ -103,7 +103,7 @@ void LiveView::vrs(const VirtualScan& v) {
 
 void LiveView::tracks(const polyloc_tracks& t) {
   if (server_.subscribed(ch_tracks_)) server_.publish(ch_tracks_, uint64_t(t.stamp_ns), tracksCdr(t));
-  view_.tracks.assign(t.tracks, t.tracks + std::min<uint32_t>(t.count, POLYLOC_MAX_TRACKS));
+  if (server_.subscribed(ch_topview_)) view_.tracks.assign(t.tracks, t.tracks + std::min<uint32_t>(t.count, POLYLOC_MAX_TRACKS));
 }
 
 void LiveView::scan(size_t sensor, int64_t stamp_ns, std::span<const float> ranges) {

@@ -43,4 +43,10 @@ ChannelTable channelTable(const Rig& rig, const VrsConfig& vrs, uint32_t slots) 
   return t;
 }
 
+std::vector<std::string> ChannelTable::inputNames() const {
+  std::vector<std::string> names;
+  for (int ch : inputs) names.push_back(specs[size_t(ch)].name);
+  return names;
+}
+
 }  // namespace polyloc::pipeline

@@ -11,6 +11,7 @@
 #include <polyloc/sensors/rig.hpp>
 #include <polyloc/vrs/config.hpp>
 
+#include <string>
 #include <vector>
 
 namespace polyloc::pipeline {
@@ -20,6 +21,8 @@ struct ChannelTable {
   int odom = -1, command = -1, pose = -1, vrs = -1, tracks = -1, health = -1;
   std::vector<int> inputs;          // channel indices of the inputs, in table order
   std::vector<int> sensor_channel;  // per rig sensor: its input channel
+
+  std::vector<std::string> inputNames() const;  // of the inputs, in table order (health's order)
 };
 
 ChannelTable channelTable(const Rig& rig, const VrsConfig& vrs, uint32_t slots);

@@ -101,10 +101,8 @@ struct Daemon::Impl final : PipelineSink {
   void startLive() {
     const live::LiveConfig& lc = d.cfg_.daemon.live;
     if (lc.port == 0) return;
-    std::vector<std::string> names;
-    for (int ch : d.table_.inputs) names.push_back(d.table_.specs[size_t(ch)].name);
     try {
-      live = std::make_unique<live::LiveView>(lc, map, d.cfg_.polyloc.rig, std::move(names));
+      live = std::make_unique<live::LiveView>(lc, map, d.cfg_.polyloc.rig, d.table_.inputNames());
       spdlog::info("live view on http://{}:{}/ (Foxglove: ws://{}:{}, docs/live.md)", lc.address, live->port(), lc.address, live->port());
     } catch (const std::exception& e) {
       spdlog::error("{}; polylocd goes on without it", e.what());

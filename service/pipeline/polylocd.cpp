@@ -75,9 +75,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<polyloc::protocol::Server> server;
     const auto& cc = daemon.config().daemon.control;
     if (cc.enabled) {
-      std::vector<std::string> inputs;
-      for (int ch : daemon.channels().inputs) inputs.push_back(daemon.channels().specs[size_t(ch)].name);
-      control = std::make_unique<polyloc::pipeline::DaemonControl>(daemon.live(), daemon.config(), std::move(inputs),
+      control = std::make_unique<polyloc::pipeline::DaemonControl>(daemon.live(), daemon.config(), daemon.channels().inputNames(),
                                                                 daemon.mapBounds());
       polyloc::protocol::ServerConfig sc;
       sc.bind_address = cc.bind, sc.port = cc.port;

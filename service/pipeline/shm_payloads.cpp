@@ -76,4 +76,9 @@ Pose posePose(const polyloc_pose& p) {
   return Pose(Eigen::Quaterniond(p.qw, p.qx, p.qy, p.qz).normalized(), Eigen::Vector3d(p.x, p.y, p.z));
 }
 
+Pose mapOdomPose(const polyloc_pose& p) {
+  const double* m = p.map_odom;  // x y z qw qx qy qz, as posePayload writes it
+  return Pose(Eigen::Quaterniond(m[3], m[4], m[5], m[6]).normalized(), Eigen::Vector3d(m[0], m[1], m[2]));
+}
+
 }  // namespace polyloc::pipeline

@@ -20,6 +20,7 @@ polyloc_tracks tracksPayload(int64_t stamp_ns, const Tracks& t);
 Pose odometryPose(const polyloc_odometry& o);
 polyloc_odometry odometryPayload(int64_t stamp_ns, const Pose& odom_T_base);
 Pose posePose(const polyloc_pose& p);  // map_T_base of a pose payload
+Pose mapOdomPose(const polyloc_pose& p);  // its map_T_odom correction
 // Frames an input's health counts as rejected, for any reason.
 inline uint64_t rejectedFrames(const polyloc_input_health& h) {
   return h.rejected_nan + h.rejected_size + h.rejected_stale + h.rejected_future;
