@@ -1,7 +1,9 @@
 #include <polyloc/eval/scan_alignment.hpp>
 #include <polyloc/mcl/refine.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace polyloc {
 
@@ -28,6 +30,23 @@ ScanAlignment alignScan(const RayCaster& caster, const Rig& rig, size_t sensor, 
     res.inliers = r.correspondences;
   }
   return res;
+}
+
+double rangeBiasAt(const RayCaster& caster, const Rig& rig, size_t sensor, std::span<const float> ranges,
+                   const Pose& map_T_base) {
+  const RefineScan scan{sensor, ranges, Pose()};
+  RefineConfig rc = AlignmentSearch().refine;
+  rc.search_xy = 0.10, rc.search_yaw = 0.0349065850398866;  // the alignment's window, then the fit with the bias
+  rc.range_bias = true;
+  const RefineResult r = refinePose(caster, rig, std::span<const RefineScan>(&scan, 1), map_T_base, 3, rc);
+  return r.accepted ? r.range_bias : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<float> shiftRanges(std::span<const float> ranges, double bias, float range_max) {
+  std::vector<float> out(ranges.begin(), ranges.end());
+  for (float& r : out)
+    if (std::isfinite(r) && r < range_max) r = std::max(0.0f, r - float(bias));
+  return out;
 }
 
 }  // namespace polyloc

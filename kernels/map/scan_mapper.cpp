@@ -118,9 +118,12 @@ ScanMapper::Added ScanMapper::add(double x, double y, double yaw, const float* r
       touch(ci + ox_, cj + oy_, b.hit && ci + ox_ == b.i && cj + oy_ == b.j);
       return false;
     });
+  const double occupied = logit(config_.occupied_thresh);
   for (size_t idx : touched_) {
     float& v = logodds_[idx];
-    v = float(std::clamp(double(v) + ((last_scan_[idx] & 1u) ? config_.hit : config_.miss), config_.clamp_min, config_.clamp_max));
+    const bool hit = last_scan_[idx] & 1u;
+    if (!hit && config_.sticky_hits && v > occupied) continue;
+    v = float(std::clamp(double(v) + (hit ? config_.hit : config_.miss), config_.clamp_min, config_.clamp_max));
   }
   if (seen_i1_ < seen_i0_) seen_i0_ = i0, seen_j0_ = j0, seen_i1_ = i1, seen_j1_ = j1;
   seen_i0_ = std::min(seen_i0_, i0), seen_j0_ = std::min(seen_j0_, j0);

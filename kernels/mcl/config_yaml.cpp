@@ -70,6 +70,16 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
   if (m.has("relocalize_threshold"))
     m.value("relocalize_threshold").fail("removed: sensor resetting follows the fit check (mcl.fit), not the likelihood level");
   c.relocalize_jump = m.getDouble("relocalize_jump", c.relocalize_jump, 0, 1e6);
+  c.recovery = m.getBool("recovery", c.recovery);
+  c.recovery_sigmas = m.getDouble("recovery_sigmas", c.recovery_sigmas, 0, 100);
+  c.recovery_min_radius = m.getDouble("recovery_min_radius", c.recovery_min_radius, 0, 100);
+  c.recovery_max_radius = m.getDouble("recovery_max_radius", c.recovery_max_radius, c.recovery_min_radius, 100);
+  c.recovery_step = m.getDouble("recovery_step", c.recovery_step, 0.01, 10);
+  c.recovery_min_heading = m.getAngle("recovery_min_heading", c.recovery_min_heading);
+  c.max_jump = m.getDouble("max_jump", c.max_jump, 0, 1e6);
+  c.range_bias = m.getBool("range_bias", c.range_bias);
+  c.range_bias_gain = m.getDouble("range_bias_gain", c.range_bias_gain, 0, 1);
+  c.range_bias_max = m.getDouble("range_bias_max", c.range_bias_max, 0, 10);
   c.beams_per_scan = count("beams_per_scan", c.beams_per_scan);
   c.effective_beams = m.getDouble("effective_beams", c.effective_beams, 0, 1e6);
   c.subsample = m.getChoice("subsample", c.subsample, {"uniform"});
@@ -100,6 +110,18 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     mn.outlier_ratio = n.getDouble("outlier_ratio", mn.outlier_ratio, 0, 1);
     mn.outlier_scale = n.getDouble("outlier_scale", mn.outlier_scale, 1, 1000);
     mn.recovery_scale = n.getDouble("recovery_scale", mn.recovery_scale, 1, 1000);
+    if (n.has("adapt")) {
+      ConfigMap a = n.map("adapt");
+      OdometryNoiseAdapt& ad = mn.adapt;
+      ad.enabled = a.getBool("enabled", ad.enabled);
+      ad.gain = a.getDouble("gain", ad.gain, 0, 1);
+      ad.max_log_ratio = a.getDouble("max_log_ratio", ad.max_log_ratio, 0, 20);
+      ad.min_scale = a.getDouble("min_scale", ad.min_scale, 0.01, 100);
+      ad.max_scale = a.getDouble("max_scale", ad.max_scale, ad.min_scale, 1000);
+      ad.min_step = a.getDouble("min_step", ad.min_step, 0, 100);
+      ad.min_turn = a.getAngle("min_turn", ad.min_turn);
+      a.finish();
+    }
     n.finish();
   }
   if (m.has("depth")) {
@@ -132,6 +154,11 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     rc.search_yaw = r.getAngle("search_yaw", rc.search_yaw);
     if (rc.search_yaw < 0 || rc.search_yaw > M_PI) r.value("search_yaw").fail("must be between 0 and 180 deg");
     rc.search_beams = r.getCount("search_beams", rc.search_beams, 0, 100'000);
+    rc.search_sigmas = r.getDouble("search_sigmas", rc.search_sigmas, 0, 100);
+    rc.max_search_xy = r.getDouble("max_search_xy", rc.max_search_xy, 0, 10);
+    rc.max_search_yaw = r.getAngle("max_search_yaw", rc.max_search_yaw);
+    if (rc.max_search_yaw < 0 || rc.max_search_yaw > M_PI) r.value("max_search_yaw").fail("must be between 0 and 180 deg");
+    rc.range_bias_prior = r.getDouble("range_bias_prior", rc.range_bias_prior, 1e-4, 10);
     rc.search_step_xy = r.getDouble("search_step_xy", rc.search_step_xy, 1e-3, 10);
     rc.search_step_yaw = r.getAngle("search_step_yaw", rc.search_step_yaw);
     if (!(rc.search_step_yaw > 0)) r.value("search_step_yaw").fail("must be positive");

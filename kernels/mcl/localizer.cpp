@@ -12,6 +12,7 @@
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/motion_model.hpp>
 #include <polyloc/mcl/odometry_buffer.hpp>
+#include <polyloc/mcl/odometry_noise.hpp>
 #include <polyloc/mcl/particles.hpp>
 #include <polyloc/mcl/refine.hpp>
 #include <polyloc/mcl/resample.hpp>
@@ -20,6 +21,7 @@
 #include <polyloc/mcl/scan_screen.hpp>
 #include <polyloc/mcl/weighing.hpp>
 
+#include <Eigen/Eigenvalues>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -38,6 +40,7 @@ constexpr uint64_t kRelocStream = 0x524C43ULL << 40;
 constexpr uint64_t kPlantStream = 0x504C54ULL << 40;
 constexpr uint64_t kFreshStream = 0x465253ULL << 40;
 constexpr uint64_t kScreenStream = 0x534352ULL << 40;
+constexpr uint64_t kRecoverStream = 0x524356ULL << 40;
 }  // namespace
 
 const char* toString(MclStatus s) {
@@ -53,9 +56,10 @@ const char* toString(MclStatus s) {
 struct Localizer::Impl {
   Impl(const RayCaster& exact, const Mesh& m, const Rig& r, const MclConfig& cfg, const RayCaster* weigh)
       : caster(weigh ? *weigh : exact), exact(exact), rig(r), config(cfg), floor(exact, m, config), rng(cfg.seed),
-        bounds(m.bounds()), policy(config) {
+        bounds(m.bounds()), policy(config), odo_noise(cfg.motion.adapt) {
     const RayCaster& c = caster;
     for (const auto& s : rig.sensors) beams.push_back(s.beams());
+    for (size_t k = 0; k < rig.size(); ++k) level.push_back(rig.isLevelScanner(k));
     const std::vector<uint8_t> weighed = weighedSensors(rig, config);
     // One model instance per name; each sensor points at the one its kind is configured for.
     for (size_t k = 0; k < rig.size(); ++k) {
@@ -93,11 +97,15 @@ struct Localizer::Impl {
     sensor_fit.assign(rig.size(), -1.0);
     est.stamp_ns = stamp;
     est.particles = ps.size();
+    est.range_bias = range_bias;  // the map's and the odometry's traits outlive a reset
+    est.odometry_scale_translation = odo_noise.translationScale();
+    est.odometry_scale_rotation = odo_noise.rotationScale();
     round.reset();
     policy.reset();
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
     odom_at_update = odom_at_predict = odom_at_round = scan_odom = odometry.at(stamp);
+    last_refined.valid = false;
     initialised = true;
     if (config.dof == 3) floor.snapToFloor(ps);
     refreshEstimate(MclStatus::Initialising);
@@ -179,7 +187,7 @@ struct Localizer::Impl {
       // After a round whose scans contradicted the estimate the odometry may have slipped or
       // jumped (a real log's ODOM lines are 20 deg off now and then): the next prediction
       // spreads wider, so that some particles follow where the scans are.
-      MotionNoise noise = config.motion;
+      MotionNoise noise = config.motion.adapt.enabled ? odo_noise.scaled(config.motion) : config.motion;
       if (est.contradicted)
         for (double* a : {&noise.alpha1, &noise.alpha2, &noise.alpha3, &noise.alpha4}) *a *= config.motion.recovery_scale;
       applyMotion(ps, delta, noise, config.dof, rng, step);
@@ -256,11 +264,26 @@ struct Localizer::Impl {
     // Where the last estimate would be now by odometry; a tracked estimate far from it was taken
     // over by injected particles.
     const Pose predicted = before.pose * (odom_at_round.inverse() * odom_at_predict);
+    odom_at_round_prev = odom_at_round;
     odom_at_round = odom_at_predict;
     bool jumped = policy.jumped(before.status == MclStatus::Tracking, global_round, est.pose, predicted);
-    if (config.refine.enabled) refineEstimate();
+    if (config.refine.enabled) refineEstimate(predictionCovariance(before));
     checkEstimateFit();
+    learnOdometryNoise();
+    est.recovered = false;
+    // The estimate could not be pinned against the map, or nothing explains the scans: search
+    // near the prediction. A round that is only contradicted (beams seen through the map) but
+    // pinned is left alone: maps with phantom obstacles (an end-point map keeps every person the
+    // mapping run saw) contradict the right place now and then.
     jumped = jumped && est.contradicted;  // a jump to a place the scans fit is the filter doing its job
+    const bool troubled = lost || !est.refined || jumped;
+    if (!global_round && troubled && before.status != MclStatus::Initialising) recoverLocally(before, predicted, lost);
+    // A jump into a contradicted place starts a global search only when no place near the
+    // prediction fits: a sharp turn on bad odometry moves the cloud off, and the place it left
+    // is found again locally (real logs, 10 %/2 deg per m drift: a global reset from a good
+    // track cost 27 m for five rounds).
+    if (est.recovered) jumped = false;
+    flagJump(before, predicted);
     policy.extendGlobal(global_round, est.contradicted, est.refined, ambiguous);
     if (policy.relocalize(jumped, est.contradicted, est.refined)) {
       drawUniform(kRelocStream + step);
@@ -268,7 +291,8 @@ struct Localizer::Impl {
       w_fast = w_slow;  // no injection into the fresh prior until tracking weighs again
       ++counters.relocalizations;
       refreshEstimate(MclStatus::Lost);
-    } else if (planted || est.ess < config.resample_ess * double(ps.size()) || (est.contradicted && round.inject_due > 0.05)) {
+    } else if (planted || est.recovered || est.ess < config.resample_ess * double(ps.size()) ||
+               (est.contradicted && round.inject_due > 0.05)) {
       resample();
     }
     // Global localisation: fresh uniform particles each coarse round, so that places the prior
@@ -288,19 +312,9 @@ struct Localizer::Impl {
   bool plantRefinedModes() {
     const std::vector<RefineScan> scans = roundScans();
     if (scans.empty()) return false;
-    std::vector<Pose> screened;
-    if (screen) {
-      if (screen_positions.empty())
-        screen_positions = floor.sampleFree(config.hypotheses.screen.positions, rng, kScreenStream);
-      screened = screen->best(rig, scans, screen_positions, config.hypotheses.separation, config.hypotheses.separation_yaw);
-    }
-    std::vector<Hypothesis> hyps = refineModes(caster, rig, scans, ps, config.hypotheses, config.refine, screened);
-    // A refined mode whose beams see through the map's walls is a wrong place, however many
-    // of its beams found a wall.
-    std::erase_if(hyps, [&](const Hypothesis& h) {
-      return checkFit(exact, rig, scans, h.pose, config.fit.tolerance, config.fit.beams_per_scan).seenThrough() >
-             config.fit.max_seen_through;
-    });
+    if (screen && screen_positions.empty())
+      screen_positions = floor.sampleFree(config.hypotheses.screen.positions, rng, kScreenStream);
+    std::vector<Hypothesis> hyps = fittingModes(scans, screen_positions);
     // More than one distinct place fits alike (a corridor seen both ways, twin rooms): the robot
     // must move on before the filter commits.
     size_t places = 0;
@@ -318,6 +332,102 @@ struct Localizer::Impl {
     normalizeLogWeights(ps.logw);
     est.ess = effectiveSampleSize(ps.logw);
     return true;
+  }
+
+  // The cloud's modes and the best screened candidates at `positions` (every heading), refined;
+  // those whose beams see through the map's walls are wrong places, however many of their beams
+  // found a wall.
+  std::vector<Hypothesis> fittingModes(const std::vector<RefineScan>& scans, std::span<const Pose> positions,
+                                       double heading_window = 0) {
+    std::vector<Pose> screened;
+    if (screen && !positions.empty())
+      screened = screen->best(rig, scans, positions, config.hypotheses.separation, config.hypotheses.separation_yaw,
+                              heading_window);
+    std::vector<Hypothesis> hyps = refineModes(caster, rig, scans, ps, config.hypotheses, config.refine, screened);
+    std::erase_if(hyps, [&](const Hypothesis& h) {
+      return checkFit(exact, rig, scans, h.pose, config.fit.tolerance, config.fit.beams_per_scan).seenThrough() >
+             config.fit.max_seen_through;
+    });
+    return hyps;
+  }
+
+  // Local recovery (mcl.recovery): the round doubts the estimate; places near the prediction
+  // (the last estimate moved by odometry) at the headings the prediction allows are screened,
+  // the best refined with the cloud's modes, and those that fit planted.
+  void recoverLocally(const MclEstimate& before, const Pose& predicted, bool lost_round) {
+    if (!config.recovery || config.hypotheses.count == 0) return;
+    const std::vector<RefineScan> scans = roundScans();
+    if (scans.empty()) return;
+    const Eigen::Matrix3d cov = predictionCovariance(before);
+    const double sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov.topLeftCorner<2, 2>()).eigenvalues().maxCoeff()));
+    const double radius = std::clamp(config.recovery_sigmas * sigma, config.recovery_min_radius, config.recovery_max_radius);
+    // When nothing explains the scans the heading may be anything: every heading is screened.
+    const double window = lost_round ? M_PI : std::clamp(config.recovery_sigmas * std::sqrt(cov(2, 2)), config.recovery_min_heading, M_PI);
+    std::vector<Pose> positions;
+    const int n = int(std::ceil(radius / config.recovery_step));
+    for (int i = -n; i <= n; ++i)
+      for (int j = -n; j <= n; ++j) {
+        const double dx = i * config.recovery_step, dy = j * config.recovery_step;
+        if (dx * dx + dy * dy <= radius * radius) positions.push_back(Pose::planar(dx, dy, 0) * predicted.planarProjection());
+      }
+    std::vector<Hypothesis> hyps = fittingModes(scans, positions, window);
+    // The cloud's modes are refined too: those outside the prediction's reach are not local.
+    std::erase_if(hyps, [&](const Hypothesis& h) {
+      return (h.pose.translation() - predicted.translation()).head<2>().norm() > radius + config.hypotheses.max_correction ||
+             std::abs(angleDiff(h.pose.yaw(), predicted.yaw())) > window + config.hypotheses.max_correction_yaw;
+    });
+    if (hyps.empty()) return;
+    // Planted at the weight of the heaviest particle, whatever the prediction says: recovery is
+    // for steps the motion model did not expect (weighed by the prediction's density, the right
+    // heading 44 deg off a wrong prediction started 1e4 times lighter and lost).
+    if (plantHypotheses(ps, hyps, config.hypotheses, rng, kRecoverStream + step) == 0) return;
+    if (config.dof == 3) floor.snapToFloor(ps);
+    normalizeLogWeights(ps.logw);
+    ++counters.recoveries;
+    est.recovered = true;
+    // The estimate stays this round's: a place the recovery found is not confirmed until the
+    // next rounds weigh it against the rest of the cloud (along a corridor the nearest fit was
+    // 1.6 m off while the cloud's mean was 0.2 m off).
+    if (est.status == MclStatus::Tracking) est.status = MclStatus::Uncertain;
+  }
+
+  // The prediction's uncertainty (x, y, yaw): the last estimate's and the motion since the last
+  // round, with the noise the scans found in the odometry.
+  Eigen::Matrix3d predictionCovariance(const MclEstimate& before) const {
+    Eigen::Matrix3d cov = motionCovariance(odom_at_round_prev.inverse() * odom_at_predict, odo_noise.scaled(config.motion));
+    cov.topLeftCorner<2, 2>() += before.covariance.topLeftCorner<2, 2>();
+    cov(2, 2) += before.covariance(5, 5);
+    return cov;
+  }
+
+  // The scans' verdict on the odometry: consecutive refined estimates against the odometry
+  // between them (odometry_noise.hpp).
+  void learnOdometryNoise() {
+    // The range bias follows what the refinements found, where the scans fit the map.
+    if (config.range_bias && est.refined && !est.contradicted)
+      range_bias = std::clamp(range_bias + config.range_bias_gain * bias_step, -config.range_bias_max, config.range_bias_max);
+    est.range_bias = range_bias;
+    if (!est.refined || est.contradicted) {
+      if (est.contradicted) last_refined.valid = false;
+      return;
+    }
+    if (last_refined.valid && config.motion.adapt.enabled)
+      odo_noise.addPair(last_refined.pose, last_refined.cov, est.pose, refine_cov,
+                        last_refined.odom.inverse() * odom_at_predict, config.motion);
+    last_refined = {est.pose, refine_cov, odom_at_predict, true};
+    est.odometry_scale_translation = odo_noise.translationScale();
+    est.odometry_scale_rotation = odo_noise.rotationScale();
+  }
+
+  // A tracked pose that moved more than mcl.max_jump beyond the odometry since the last one
+  // jumped: this round says so in its status.
+  void flagJump(const MclEstimate& before, const Pose& predicted) {
+    est.jumped = false;
+    if (config.max_jump <= 0 || before.status != MclStatus::Tracking) return;
+    if ((est.pose.translation() - predicted.translation()).head<2>().norm() <= config.max_jump) return;
+    est.jumped = true;
+    ++counters.jumps;
+    if (est.status == MclStatus::Tracking) est.status = MclStatus::Uncertain;
   }
 
   // The refined modes matched to the places of earlier global rounds (hypotheses.hpp); the best
@@ -358,18 +468,35 @@ struct Localizer::Impl {
   // The estimate refined against the mesh with the round's frames (refine.hpp), while tracking:
   // a wrong-mode or spread cloud is left to the filter. The particles are not moved: the
   // refinement is an output, the filter stays a filter.
-  void refineEstimate() {
+  void refineEstimate(const Eigen::Matrix3d& prior) {
     est.refined = false;
+    bias_step = 0;
     if (est.status != MclStatus::Tracking) return;
     const std::vector<RefineScan> scans = roundScans();
     if (scans.empty()) return;
-    const RefineResult r = refinePose(caster, rig, scans, est.pose, config.refine.dof ? config.refine.dof : config.dof, config.refine);
+    RefineConfig rc = config.refine;
+    rc.range_bias = config.range_bias;
+    // The search covers the prediction's uncertainty (a collapsed cloud says nothing about it):
+    // long steps on bad odometry leave the estimate decimetres off, beyond a fixed window.
+    if (rc.search_xy > 0 || rc.search_yaw > 0) {
+      const double sxy = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(prior.topLeftCorner<2, 2>()).eigenvalues().maxCoeff()));
+      rc.search_xy = std::clamp(rc.search_sigmas * sxy, rc.search_xy, std::max(rc.search_xy, rc.max_search_xy));
+      rc.search_yaw = std::clamp(rc.search_sigmas * std::sqrt(prior(2, 2)), rc.search_yaw, std::max(rc.search_yaw, rc.max_search_yaw));
+      rc.max_correction = std::max(rc.max_correction, rc.search_xy + config.refine.max_correction);
+      rc.max_correction_yaw = std::max(rc.max_correction_yaw, rc.search_yaw + config.refine.max_correction_yaw);
+    }
+    const RefineResult r = refinePose(caster, rig, scans, est.pose, config.refine.dof ? config.refine.dof : config.dof, rc);
     if (!r.accepted) return void(++counters.refinements_refused);
+    bias_step = r.range_bias;
     est.pose = r.pose;
     // The cloud of a well-observed pose collapses to copies of a few particles (its spread can
     // read 1e-10 m); the fit's covariance says how well the scans pin the refined pose. Both
-    // together are what a controller should be told.
-    est.covariance += r.covariance;
+    // together are what a controller should be told. The fit treats its beams as independent;
+    // they are not (a map centimetres off, a person bias neighbours alike), so it counts as
+    // effective_beams of them, as the weighting does (real logs: NEES ~10 without).
+    const double dependent = config.effective_beams > 0 ? std::max(1.0, double(r.correspondences) / config.effective_beams) : 1.0;
+    refine_cov = dependent * r.covariance;
+    est.covariance += refine_cov;
     est.refined = true;
     ++counters.refinements;
   }
@@ -395,9 +522,22 @@ struct Localizer::Impl {
   OdometryBuffer odometry;
   Pose odom_at_predict, odom_at_update;
   Pose odom_at_round;  // odometry at the last round's estimate (relocalize_jump)
+  Pose odom_at_round_prev;  // ... and at the one before (the step local recovery searches around)
+  struct RefinedAt {
+    Pose pose;
+    Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
+    Pose odom;
+    bool valid = false;
+  } last_refined;          // the last refined, uncontradicted estimate
+  Eigen::Matrix<double, 6, 6> refine_cov = Eigen::Matrix<double, 6, 6>::Zero();  // of this round's refinement
+  double range_bias = 0;           // m, taken off the level scanners' ranges (mcl.range_bias)
+  double bias_step = 0;            // what this round's refinement found on top of it
+  std::vector<uint8_t> level;      // per rig sensor: a level scanner
+  std::vector<float> biased;       // a frame's ranges less the bias
   Pose scan_odom;  // odometry interpolated to the stamp of the scan being weighed
   UpdateRound round;
   ResetPolicy policy;
+  OdometryNoise odo_noise;  // the alphas' scales the scans found (mcl.motion.adapt)
   uint64_t step = 0;
   std::vector<double> w_slow, w_fast;  // augmented MCL likelihood averages, per rig sensor
   size_t current = 0;                  // sensor of the last update
@@ -500,6 +640,14 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
     d.odom_at_update = d.scan_odom;
   }
   if (!d.round.take(sensor)) return closed;
+  // The map's proudness (mcl.range_bias) taken off a level scanner's ranges before anything
+  // weighs or keeps them.
+  if (d.range_bias != 0 && d.level[sensor]) {
+    d.biased.assign(ranges.begin(), ranges.end());
+    for (float& r : d.biased)
+      if (std::isfinite(r) && r < d.beams[sensor].range_max) r = std::max(0.0f, r - float(d.range_bias));
+    ranges = d.biased;
+  }
   d.run([&] {
     d.update(sensor, stamp, ranges);
     if (d.round.complete()) d.closeRound(), closed = true;

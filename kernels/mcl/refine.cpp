@@ -17,12 +17,16 @@ namespace {
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
+// The pose perturbation (6) and the range bias (refine.range_bias).
+using Vec7 = Eigen::Matrix<double, 7, 1>;
+using Mat7 = Eigen::Matrix<double, 7, 7>;
 
 // The selected beams of all scans, fixed over the iterations (SoA, as the caster takes them).
 struct Beams {
   std::vector<uint32_t> scan;        // index into the scan poses
   std::vector<float> sx, sy, sz;     // direction, sensor frame
   std::vector<float> measured, tmin, tmax;
+  std::vector<uint8_t> biased;       // a level scanner's beam: the range bias applies
   size_t size() const { return scan.size(); }
 };
 
@@ -84,6 +88,7 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
       bm.measured.push_back(s.ranges[b]);
       bm.tmin.push_back(all.range_min);
       bm.tmax.push_back(std::min<float>(all.range_max, s.ranges[b] + float(cfg.cast_margin)));
+      bm.biased.push_back(cfg.range_bias && rig.isLevelScanner(s.sensor));
     }
   }
   const size_t N = bm.size();
@@ -100,8 +105,12 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
   HitBuffers hits;
   hits.range = range.data(), hits.nx = nx.data(), hits.ny = ny.data(), hits.nz = nz.data();
   const std::array<int, 3> planar_idx{0, 1, 5};
-  const int n_par = dof;
-  auto param = [&](int i) { return dof == 6 ? i : planar_idx[size_t(i)]; };
+  const int n_pose = dof, n_par = dof + (cfg.range_bias ? 1 : 0);
+  auto param = [&](int i) { return i == n_pose ? 6 : dof == 6 ? i : planar_idx[size_t(i)]; };
+  double bias = 0;  // on top of what the ranges already had taken off
+  // The prior in the units of the normal equations (residuals of about the Huber threshold):
+  // weak, it only holds the bias where the beams cannot tell it from a translation.
+  const double bias_info = cfg.range_bias ? std::pow(cfg.huber / cfg.range_bias_prior, 2) : 0.0;
 
   // Start from the best cell of a small exhaustive search (pose_search.hpp), if asked.
   Pose T = map_T_base;
@@ -117,6 +126,7 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
   // millimetres instead of settling; then that iterate, not the last, is the answer.
   struct Iterate {
     Pose T;
+    double bias = 0;
     double cost = std::numeric_limits<double>::infinity(), sum_we2 = 0, rms = 0;
     size_t inliers = 0;
     Eigen::MatrixXd H;
@@ -134,10 +144,11 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
     }
     caster.castRays(rays, hits);
 
-    // Normal equations over the inliers; J = [n, (p - t) x n] for the perturbation above.
-    Mat6 JtWJ = Mat6::Zero();
-    Vec6 JtWe = Vec6::Zero();
-    double sum_e2 = 0, cost = 0;
+    // Normal equations over the inliers; J = [n, (p - t) x n, -n.d] for the perturbation above
+    // and the range bias (the measured range less the bias).
+    Mat7 JtWJ = Mat7::Zero();
+    Vec7 JtWe = Vec7::Zero();
+    double sum_e2 = 0, cost = 0.5 * bias_info * bias * bias;
     sum_we2 = 0;
     inliers = 0;
     for (size_t i = 0; i < N; ++i) {
@@ -146,16 +157,18 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
         continue;
       }
       const Eigen::Vector3d n(nx[i], ny[i], nz[i]), d(dx[i], dy[i], dz[i]);
-      const double e = (double(bm.measured[i]) - double(range[i])) * n.dot(d);
+      const double z = double(bm.measured[i]) - (bm.biased[i] ? bias : 0.0);
+      const double e = (z - double(range[i])) * n.dot(d);
       if (!(std::abs(e) <= cfg.max_correspondence)) {
         cost += cap;
         continue;
       }
       cost += std::abs(e) <= cfg.huber ? 0.5 * e * e : cfg.huber * (std::abs(e) - 0.5 * cfg.huber);
-      const Eigen::Vector3d p = Eigen::Vector3d(ox[i], oy[i], oz[i]) + double(bm.measured[i]) * d;
-      Vec6 J;
+      const Eigen::Vector3d p = Eigen::Vector3d(ox[i], oy[i], oz[i]) + z * d;
+      Vec7 J;
       J.head<3>() = n;
-      J.tail<3>() = (p - T.translation()).cross(n);
+      J.segment<3>(3) = (p - T.translation()).cross(n);
+      J[6] = bm.biased[i] ? -n.dot(d) : 0.0;
       const double w = std::abs(e) <= cfg.huber ? 1.0 : cfg.huber / std::abs(e);
       JtWJ.selfadjointView<Eigen::Upper>().rankUpdate(J, w);
       JtWe += w * e * J;
@@ -164,6 +177,8 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
       ++inliers;
     }
     JtWJ = JtWJ.selfadjointView<Eigen::Upper>();
+    JtWJ(6, 6) += bias_info;  // the prior: the bias already applied is right, within range_bias_prior
+    JtWe[6] += bias_info * bias;
     res.iterations = it + 1;
     res.correspondences = inliers;
     res.rms = inliers ? std::sqrt(sum_e2 / double(inliers)) : 0.0;
@@ -178,7 +193,7 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
       g[a] = JtWe[param(a)];
       for (int b = 0; b < n_par; ++b) H(a, b) = JtWJ(param(a), param(b));
     }
-    if (cost < best.cost) best = Iterate{T, cost, sum_we2, res.rms, inliers, H};
+    if (cost < best.cost) best = Iterate{T, bias, cost, sum_we2, res.rms, inliers, H};
     const double mu = 1e-9 * H.diagonal().maxCoeff() + 1e-12;
     const Eigen::VectorXd h = -(H + mu * Eigen::MatrixXd::Identity(n_par, n_par)).ldlt().solve(g);
     if (!h.allFinite()) {
@@ -186,9 +201,10 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
       return res;
     }
     Vec6 delta = Vec6::Zero();
-    for (int a = 0; a < n_par; ++a) delta[param(a)] = h[a];
+    for (int a = 0; a < n_pose; ++a) delta[param(a)] = h[a];
     T = perturb(T, delta);
-    last_step = delta.norm();
+    if (n_par > n_pose) bias += h[n_pose];
+    last_step = std::hypot(delta.norm(), n_par > n_pose ? h[n_pose] : 0.0);
 
     // A correction this large means the estimate sat in another mode: leave it to MCL.
     const Eigen::Vector3d dt = T.translation() - map_T_base.translation();
@@ -203,7 +219,7 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
   }
   if (!converged && !(last_step < cfg.max_final_step)) {
     // Circling: the least-cost iterate, checked by the same gates as a converged one.
-    T = best.T, sum_we2 = best.sum_we2, inliers = best.inliers, H = best.H;
+    T = best.T, bias = best.bias, sum_we2 = best.sum_we2, inliers = best.inliers, H = best.H;
     res.rms = best.rms, res.correspondences = best.inliers;
   }
   if (double(inliers) < cfg.min_inlier_ratio * double(N)) {
@@ -220,10 +236,11 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
   const Eigen::MatrixXd Hinv =
       es.eigenvectors() * ev.cwiseMax(floor).cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
   Mat6 c = Mat6::Zero();
-  for (int a = 0; a < n_par; ++a)
-    for (int b = 0; b < n_par; ++b) c(param(a), param(b)) = var * Hinv(a, b);
+  for (int a = 0; a < n_pose; ++a)
+    for (int b = 0; b < n_pose; ++b) c(param(a), param(b)) = var * Hinv(a, b);
   res.covariance = toEulerCovariance(T, c);
   res.pose = T;
+  if (n_par > n_pose) res.range_bias = bias, res.range_bias_std = std::sqrt(var * Hinv(n_pose, n_pose));
   res.accepted = true;
   return res;
 }

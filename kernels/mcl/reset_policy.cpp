@@ -50,11 +50,14 @@ bool ResetPolicy::relocalize(bool jumped, bool contradicted, bool refined) {
   // A round counts only when the refinement could not pin the estimate either: at the right
   // place a quarter of the beams may see through for minutes on end where the map holds a door
   // that is open now (a map made over a long run: freiburg-079), and the scans still fit it.
-  const bool low = contradicted && !refined;
+  // A jump into a contradicted place is such a round too, not a reset by itself: one round is
+  // no evidence that the track is lost (a sharp turn on bad odometry throws the cloud off for a
+  // round, and local recovery finds the place again; a reset after one such round cost 27 m for
+  // five rounds on a real log), several in a row are.
+  const bool low = (contradicted && !refined) || jumped;
   low_rounds_ = low ? low_rounds_ + 1 : 0;
   ++rounds_since_reset_;
-  return jumped || (relocalize_rounds_ > 0 && low_rounds_ >= relocalize_rounds_ &&
-                    rounds_since_reset_ > 2 * relocalize_rounds_);
+  return relocalize_rounds_ > 0 && low_rounds_ >= relocalize_rounds_ && rounds_since_reset_ > 2 * relocalize_rounds_;
 }
 
 }  // namespace polyloc

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace polyloc {
@@ -34,7 +35,7 @@ ScanScreen::ScanScreen(const Mesh& map, double height, const ScanScreenConfig& c
 ScanScreen::~ScanScreen() = default;
 
 std::vector<Pose> ScanScreen::best(const Rig& rig, std::span<const RefineScan> scans, std::span<const Pose> positions,
-                                   double separation, double separation_yaw) const {
+                                   double separation, double separation_yaw, double heading_window) const {
   const Impl& m = *impl_;
   const ScanScreenConfig& cfg = m.config;
   std::vector<Pose> out;
@@ -62,8 +63,13 @@ std::vector<Pose> ScanScreen::best(const Rig& rig, std::span<const RefineScan> s
   tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 64), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t p = r.begin(); p < r.end(); ++p) {
       const float x = float(positions[p].x()), y = float(positions[p].y());
+      const double own = positions[p].yaw();
       for (size_t h = 0; h < H; ++h) {
         const double yaw = 2 * M_PI * double(h) / double(H);
+        if (heading_window > 0 && std::abs(angleDiff(yaw, own)) > heading_window) {
+          cost[p * H + h] = std::numeric_limits<float>::infinity();
+          continue;
+        }
         const float c = float(std::cos(yaw)), s = float(std::sin(yaw));
         float sum = 0;
         for (size_t i = 0; i < B; ++i) {
@@ -89,6 +95,7 @@ std::vector<Pose> ScanScreen::best(const Rig& rig, std::span<const RefineScan> s
   std::vector<double> yaws;
   const double sep2 = separation * separation;
   for (size_t k = 0; k < pool && out.size() < cfg.keep; ++k) {
+    if (!std::isfinite(cost[order[k]])) break;
     const Pose& at = positions[order[k] / H];
     const double yaw = angleDiff(2 * M_PI * double(order[k] % H) / double(H), 0.0);
     bool near = false;

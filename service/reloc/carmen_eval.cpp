@@ -4,59 +4,82 @@
 #include "reloc/topic_router.hpp"
 
 #include <polyloc/eval/scan_alignment.hpp>
+#include <polyloc/eval/stats.hpp>
 #include <polyloc/geometry/random.hpp>
 #include <polyloc/io/memory_recording.hpp>
+#include <polyloc/io/recorded_geometry.hpp>
 #include <polyloc/mcl/fit_check.hpp>
 #include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
-#include <polyloc/io/recorded_geometry.hpp>
 
 #include <fmt/core.h>
+#include <fmt/format.h>
 
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 namespace polyloc::reloc {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using Messages = std::shared_ptr<const std::vector<RecordedMessage>>;
 constexpr uint64_t kGlobalStartStream = 0x474C53ULL << 40;
 constexpr uint64_t kFitStream = 0x464954ULL << 40;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// The even scans at their known poses into a grid, extruded to a mesh.
-void buildMap(const RealLog& log, const RealLogSplit& split, const CarmenEvalOptions& o, CarmenEvalResult& r) {
-  ScanMapper mapper(o.mapper);
-  for (size_t k = 0; k < split.map_scans.size(); ++k) {
-    const LoggedScan& s = log.scans[split.map_scans[k]];
-    mapper.add(s.pose.x(), s.pose.y(), s.pose.yaw(), s.scan.ranges.data(), s.scan.ranges.size(), s.scan.angle_min,
-               s.scan.angle_increment, s.scan.range_min, s.scan.range_max);
-    if (o.progress && k % 16 == 0) o.progress("map", double(k) / double(split.map_scans.size()));
-  }
-  if (mapper.scans() == 0) throw std::runtime_error(fmt::format("{}: no map scan could be used", o.log));
-  r.grid = mapper.grid();
-  r.mesh = extrudeGrid(r.grid, o.extrude);
+// A test run and its messages as the jobs read them (shared by the cases of every map style).
+struct PreparedRun {
+  TestRun run;
+  Messages messages;
+  std::vector<size_t> positions;  // indices into the test scans
+  size_t decimate = 1;
+  std::optional<OdometryDrift> drift;  // none: the log's own odometry
+};
+
+PreparedRun prepare(TestRun run, std::vector<size_t> positions, size_t decimate, std::optional<OdometryDrift> drift) {
+  PreparedRun p;
+  p.drift = std::move(drift);
+  p.messages = std::make_shared<const std::vector<RecordedMessage>>(std::move(run.messages));
+  run.messages.clear();
+  p.run = std::move(run);
+  p.positions = std::move(positions);
+  p.decimate = decimate;
+  return p;
 }
 
-// The test scans aligned to the mesh around their known poses, as estimates at the run's stamps.
-void measureFloor(const RealLog& log, const RealLogSplit& split, const Rig& rig, const RayCaster& caster,
-                  const CarmenEvalOptions& o, CarmenEvalResult& r) {
+// The test scans aligned to the mesh around their known poses.
+void measureFloor(const RealLog& log, const std::vector<size_t>& test, const Rig& rig, const RayCaster& caster,
+                  const MclConfig& mc, const CarmenEvalOptions& o, CarmenMap& m) {
   const int sensor = TopicRouter(rig, {}).sensorForScan(log.topic);
   if (sensor < 0) throw std::runtime_error(fmt::format("{}: rig '{}' has no sensor for {}", o.log, rig.name, log.topic));
-  std::vector<EstimatedPose> aligned;
   const CounterRng rng(o.seed);
-  for (size_t i = 0; i < split.test_scans.size(); ++i) {
-    const LoggedScan& s = log.scans[split.test_scans[i]];
-    const Pose known = Pose::fromXYZRPY(s.pose.x(), s.pose.y(), 0, 0, 0, s.pose.yaw());
-    const ScanAlignment a = alignScan(caster, rig, size_t(sensor), s.scan.ranges, known);
-    r.floor_refined += a.refined;
-    r.floor_std_along.push_back(a.refined ? a.std_along : std::numeric_limits<double>::infinity());
-    const RefineScan scan{size_t(sensor), s.scan.ranges, Pose()};
-    const MclConfig& mc = r.config.mcl;
+  auto knownPose = [&](const LoggedScan& s) { return Pose::fromXYZRPY(s.pose.x(), s.pose.y(), 0, 0, 0, s.pose.yaw()); };
+  // The map's range bias (walls proud of the surfaces, mcl.range_bias), as the localiser takes
+  // it off: the median over the test scans at their known poses, so that the floor is the best
+  // this map allows a localiser that knows it.
+  std::vector<double> biases;
+  if (mc.range_bias)
+    for (size_t i = 0; i < test.size(); ++i) {
+      const LoggedScan& s = log.scans[test[i]];
+      const double b = rangeBiasAt(caster, rig, size_t(sensor), s.scan.ranges, knownPose(s));
+      if (std::isfinite(b)) biases.push_back(b);
+      if (o.progress && i % 8 == 0) o.progress("floor " + m.map.style, 0.5 * double(i) / double(test.size()));
+    }
+  m.range_bias = biases.empty() ? 0.0 : std::clamp(percentile(biases, 50), -mc.range_bias_max, mc.range_bias_max);
+  const float range_max = rig.sensors[size_t(sensor)].beams().range_max;
+  for (size_t i = 0; i < test.size(); ++i) {
+    const LoggedScan& s = log.scans[test[i]];
+    const Pose known = knownPose(s);
+    const std::vector<float> ranges = shiftRanges(s.scan.ranges, m.range_bias, range_max);
+    const ScanAlignment a = alignScan(caster, rig, size_t(sensor), ranges, known);
+    m.floor_refined += a.refined;
+    m.floor_std_along.push_back(a.refined ? a.std_along : std::numeric_limits<double>::infinity());
+    const RefineScan scan{size_t(sensor), ranges, Pose()};
     auto fit = [&](const Pose& p) {
       return checkFit(caster, rig, std::span<const RefineScan>(&scan, 1), p, mc.fit.tolerance, mc.fit.beams_per_scan);
     };
@@ -66,51 +89,75 @@ void measureFloor(const RealLog& log, const RealLogSplit& split, const Rig& rig,
       const double yaw = deg2rad(rng.uniform(-10, 10, kFitStream + k, i, 1));
       return Pose::planar(d * std::cos(dir), d * std::sin(dir), 0) * a.pose * Pose::planar(0, 0, yaw);
     };
-    r.seen_through_aligned.push_back(seen(a.pose));
-    r.explained_aligned.push_back(fit(a.pose).explainedShare());
-    r.seen_through_0_5m.push_back(seen(displaced(0.5, 0)));
-    r.seen_through_2m.push_back(seen(displaced(2.0, 1)));
-    if (!a.refined) ++r.floor_refused[a.refine_reason];
-    aligned.push_back({r.truth[i].stamp_ns, a.pose, MclStatus::Tracking});
-    if (o.progress && i % 8 == 0) o.progress("floor", double(i) / double(split.test_scans.size()));
+    m.seen_through_aligned.push_back(seen(a.pose));
+    m.explained_aligned.push_back(fit(a.pose).explainedShare());
+    m.seen_through_0_5m.push_back(seen(displaced(0.5, 0)));
+    m.seen_through_2m.push_back(seen(displaced(2.0, 1)));
+    if (!a.refined) ++m.floor_refused[a.refine_reason];
+    m.aligned.push_back(a.pose);
+    if (o.progress && i % 8 == 0) o.progress("floor " + m.map.style, 0.5 + 0.5 * double(i) / double(test.size()));
   }
-  r.floor = evaluateTrajectory(aligned, GroundTruth(r.truth));
 }
 
-using Messages = std::shared_ptr<const std::vector<RecordedMessage>>;
+// The aligned poses of the run's scans as estimates at its stamps, against its truth.
+TrajectoryMetrics floorOn(const CarmenMap& m, const TestRun& run, const std::vector<size_t>& positions) {
+  std::vector<EstimatedPose> aligned;
+  for (size_t k = 0; k < run.truth.size() && k < positions.size(); ++k)
+    aligned.push_back({run.truth[k].stamp_ns, m.aligned[positions[k]], MclStatus::Tracking});
+  return evaluateTrajectory(aligned, GroundTruth(run.truth));
+}
 
-JobOptions jobOptions(const TestRun& run, Messages messages, const CarmenEvalOptions& o) {
+JobOptions jobOptions(const std::string& what, Messages messages, const CarmenEvalOptions& o) {
   JobOptions jo;
-  jo.input = fmt::format("{} ({} run)", o.log, run.name);
+  jo.input = fmt::format("{} ({})", o.log, what);
   jo.open = [messages] { return readMemory(messages, "carmen"); };
   jo.plot = o.plot;
   jo.log = o.log_line;
   return jo;
 }
 
-CarmenVariant runVariant(const TestRun& run, Messages messages, const JobContext& ctx, const CarmenEvalOptions& o) {
-  CarmenVariant v;
-  v.name = run.name;
-  v.stamps = run.stamps;
-  v.odometry = run.odometry;
-  v.odometry_dropped = run.odometry_dropped;
-  v.unusable = run.unusable;
-  v.run = std::move(messages);
-  if (!v.unusable.empty()) return v;
-  JobOptions jo = jobOptions(run, v.run, o);
-  if (o.progress) jo.progress = [&](double f, uint64_t) { o.progress(run.name, f); };
-  v.job = runRecordingJob(ctx, jo);
-  v.metrics = evaluate(v.job);
+Consistency consistencyOf(const JobResult& job, const TestRun& run) {
+  std::vector<PublishedPose> published;
+  for (const FrameRecord& f : job.frames)
+    published.push_back({f.stamp_ns, f.pose, f.covariance.topLeftCorner<2, 2>(), f.status});
+  return evaluateConsistency(published, GroundTruth(run.truth));
+}
+
+// A case of the matrix before it is localised: what it runs, its floor and its odometry alone.
+CarmenCase runCase(const PreparedRun& p, const CarmenMap& m, size_t map_index) {
+  CarmenCase c;
+  c.map_style = m.map.style;
+  c.map = map_index;
+  c.odometry = p.drift ? p.drift->name : "own";
+  if (p.drift) c.drift = *p.drift;
+  c.decimate = p.decimate;
+  c.test_positions = p.positions;
+  c.stamps = p.run.stamps;
+  c.unusable = p.run.unusable;
+  c.odometry_messages = p.run.odometry;
+  c.odometry_dropped = p.run.odometry_dropped;
+  c.run = p.messages;
+  if (m.floor) c.floor = floorOn(m, p.run, p.positions);
   std::vector<EstimatedPose> odo;
-  for (const auto& p : run.odometry_only) odo.push_back({p.stamp_ns, p.pose, MclStatus::Tracking});
-  v.odometry_only = evaluateTrajectory(odo, GroundTruth(run.truth));
-  return v;
+  for (const auto& q : p.run.odometry_only) odo.push_back({q.stamp_ns, q.pose, MclStatus::Tracking});
+  c.odometry_only = evaluateTrajectory(odo, GroundTruth(p.run.truth));
+  return c;
+}
+
+void localise(CarmenCase& c, const PreparedRun& p, const JobContext& ctx, const CarmenEvalOptions& o) {
+  if (!c.unusable.empty()) return;
+  JobOptions jo = jobOptions(c.name() + " run", c.run, o);
+  if (o.progress) jo.progress = [&](double f, uint64_t) { o.progress(c.name(), f); };
+  c.job = runRecordingJob(ctx, jo);
+  c.metrics = evaluate(c.job);
+  c.consistency = consistencyOf(c.job, p.run);
 }
 
 // Stratified random starts over the test scans that still have `updates` scans after them.
-std::vector<CarmenGlobalTrial> runGlobal(const TestRun& run, const Messages& messages, const JobContext& ctx,
+std::vector<CarmenGlobalTrial> runGlobal(const PreparedRun& p, const std::string& style, const JobContext& ctx,
                                          const CarmenEvalOptions& o) {
   std::vector<CarmenGlobalTrial> trials;
+  const TestRun& run = p.run;
   const size_t n = run.truth.size(), U = o.global_updates;
   if (n <= U || o.global_trials == 0) return trials;
   const CounterRng rng(o.seed);
@@ -120,7 +167,7 @@ std::vector<CarmenGlobalTrial> runGlobal(const TestRun& run, const Messages& mes
     const double u = (double(i) + rng.uniform(kGlobalStartStream, i)) / double(o.global_trials);
     CarmenGlobalTrial t;
     t.test_index = std::min(n - U - 1, size_t(u * double(n - U)));
-    JobOptions jo = jobOptions(run, messages, o);
+    JobOptions jo = jobOptions("global trial", p.messages, o);
     jo.plot = false;
     jo.log = nullptr;
     jo.start = StartMode::Global;
@@ -142,12 +189,14 @@ std::vector<CarmenGlobalTrial> runGlobal(const TestRun& run, const Messages& mes
     }
     t.success = t.updates >= U && t.first_within > 0;
     trials.push_back(t);
-    if (o.progress) o.progress("global", double(i + 1) / double(o.global_trials));
+    if (o.progress) o.progress("global " + style, double(i + 1) / double(o.global_trials));
   }
   return trials;
 }
 
 }  // namespace
+
+std::string CarmenCase::name() const { return fmt::format("{}/{}/x{}", map_style, odometry, decimate); }
 
 PolylocConfig defaultCarmenConfig() {
   PolylocConfig c;
@@ -160,6 +209,11 @@ PolylocConfig defaultCarmenConfig() {
 
 CarmenEvalResult runCarmenEval(const CarmenEvalOptions& o) {
   const auto t_start = Clock::now();
+  if (o.map_styles.empty() || (o.drifts.empty() && !o.own) || o.decimations.empty())
+    throw std::invalid_argument("eval carmen: no map style, odometry or decimation to run");
+  for (const std::string& s : o.map_styles)
+    if (describeLogMapStyle(s).empty())
+      throw std::invalid_argument(fmt::format("unknown map style '{}' ({})", s, fmt::join(logMapStyles(), ", ")));
   CarmenEvalResult r;
   r.config = o.config.empty() ? defaultCarmenConfig() : loadConfig(o.config, {.map_optional = true, .recorded_rig = true});
   const RealLog log = readRealLog(o.log, o.topic);
@@ -169,46 +223,81 @@ CarmenEvalResult runCarmenEval(const CarmenEvalOptions& o) {
   r.log_odometry = log.odometry.size();
   r.rejected_lines = log.stats.rejected;
   r.geometry = describeGeometry(log.scans.front().scan);
-  const RealLogSplit split = splitEvenOdd(log, o.every);
+  const RealLogSplit split = splitEvenOdd(log);
+  const std::vector<size_t> test = decimateScans(split.test_scans, 1, o.test_scans ? o.test_scans : SIZE_MAX);
   r.map_scans = split.map_scans.size();
-  r.test_scans = split.test_scans.size();
+  r.test_scans = test.size();
   if (r.test_scans < 2) throw std::runtime_error(fmt::format("{}: {} test scans: too few to evaluate", o.log, r.test_scans));
 
-  auto t0 = Clock::now();
-  buildMap(log, split, o, r);
-  r.map_s = since(t0);
-
-  OdometryDrift drift = o.drift;
-  drift.seed = o.seed;
-  const TestRun drift_run = driftRun(log, split.test_scans, drift, o.restamp_hz);
-  r.truth = drift_run.truth;
-  const Messages drift_messages = std::make_shared<const std::vector<RecordedMessage>>(drift_run.messages);
-
-  EmbreeOptions eo;
-  eo.threads = r.config.mcl.threads;
-  const EmbreeCaster caster(r.mesh, eo);
-  // The rig made once from the run, for the floor and every job (the own run has the same scans).
-  completeRecordedRig(r.config, *readMemory(drift_messages), o.log, o.log_line);
-  if (o.floor) {
-    t0 = Clock::now();
-    measureFloor(log, split, r.config.rig, caster, o, r);
-    r.floor_s = since(t0);
-  }
-  // mcl.caster weighs the particles (grid2d, gpu, ...); Embree keeps the floor and free space.
-  const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(r.mesh, r.config.rig, r.config.mcl, r.config.mcl.threads);
-  const JobContext ctx{r.config, r.mesh, caster, weigh.get()};
-  for (const std::string& name : o.variants) {
-    if (name == "drift") {
-      r.variants.push_back(runVariant(drift_run, drift_messages, ctx, o));
-    } else if (name == "own") {
-      TestRun own = ownOdometryRun(log, split.test_scans, o.restamp_hz);
-      auto messages = std::make_shared<const std::vector<RecordedMessage>>(std::move(own.messages));
-      r.variants.push_back(runVariant(own, std::move(messages), ctx, o));
-    } else {
-      throw std::runtime_error(fmt::format("unknown variant '{}' (drift, own)", name));
+  // The runs, made once: every drift at every decimation, and the log's own odometry.
+  std::vector<PreparedRun> runs;  // drift-major, then decimation
+  for (const OdometryDrift& d0 : o.drifts) {
+    OdometryDrift d = d0;
+    d.seed = o.seed;
+    for (size_t dec : o.decimations) {
+      std::vector<size_t> positions;
+      for (size_t k = 0; k < test.size(); k += std::max<size_t>(dec, 1)) positions.push_back(k);
+      runs.push_back(prepare(driftRun(log, decimateScans(test, dec), d, o.restamp_hz), positions, dec, d));
     }
   }
-  r.global = runGlobal(drift_run, drift_messages, ctx, o);
+  // The reference run: every test scan with the first odometry; the truth of the floor and the
+  // run the global trials start in.
+  std::optional<PreparedRun> reference_drift;
+  if (!o.drifts.empty()) {
+    for (const PreparedRun& p : runs)
+      if (p.decimate == 1 && p.drift && p.drift->name == o.drifts.front().name) reference_drift = p;
+    if (!reference_drift) {
+      OdometryDrift d = o.drifts.front();
+      d.seed = o.seed;
+      std::vector<size_t> positions(test.size());
+      for (size_t k = 0; k < test.size(); ++k) positions[k] = k;
+      reference_drift = prepare(driftRun(log, test, d, o.restamp_hz), positions, 1, d);
+    }
+  }
+  std::optional<PreparedRun> own;
+  if (o.own) {
+    std::vector<size_t> positions(test.size());
+    for (size_t k = 0; k < test.size(); ++k) positions[k] = k;
+    own = prepare(ownOdometryRun(log, test, o.restamp_hz), positions, 1, std::nullopt);
+  }
+  const PreparedRun& reference = reference_drift ? *reference_drift : *own;
+  r.truth = reference.run.truth;
+  // The rig made once from a run, for the floor and every job (all runs have the same scans).
+  completeRecordedRig(r.config, *readMemory(reference.messages), o.log, o.log_line);
+
+  LogMapOptions mo = o.map;
+  mo.seed = o.seed;
+  for (size_t mi = 0; mi < o.map_styles.size(); ++mi) {
+    const std::string& style = o.map_styles[mi];
+    CarmenMap m;
+    auto t0 = Clock::now();
+    if (o.progress) mo.progress = [&](double f) { o.progress("map " + style, f); };
+    m.map = buildLogMap(log, split.map_scans, style, mo);
+    m.map_s = since(t0);
+    EmbreeOptions eo;
+    eo.threads = r.config.mcl.threads;
+    const EmbreeCaster caster(m.map.mesh, eo);
+    if (o.floor) {
+      t0 = Clock::now();
+      measureFloor(log, test, r.config.rig, caster, r.config.mcl, o, m);
+      std::vector<EstimatedPose> aligned;
+      for (size_t k = 0; k < test.size(); ++k) aligned.push_back({r.truth[k].stamp_ns, m.aligned[k], MclStatus::Tracking});
+      m.floor = evaluateTrajectory(aligned, GroundTruth(r.truth));
+      m.floor_s = since(t0);
+    }
+    // mcl.caster weighs the particles (grid2d, gpu, ...); Embree keeps the floor and free space.
+    const std::unique_ptr<RayCaster> weigh = makeWeighingCaster(m.map.mesh, r.config.rig, r.config.mcl, r.config.mcl.threads);
+    const JobContext ctx{r.config, m.map.mesh, caster, weigh.get()};
+    auto run = [&](const PreparedRun& p) {
+      CarmenCase c = runCase(p, m, mi);
+      localise(c, p, ctx, o);
+      r.cases.push_back(std::move(c));
+    };
+    for (const PreparedRun& p : runs) run(p);
+    if (own && mi == 0) run(*own);
+    if (reference_drift) m.global = runGlobal(*reference_drift, style, ctx, o);
+    r.maps.push_back(std::move(m));
+  }
   r.wall_s = since(t_start);
   return r;
 }

@@ -287,6 +287,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"contradicted", c.contradicted},
                   {"unfit", c.unfit},
                   {"hypotheses", c.hypotheses},
+                  {"recoveries", c.recoveries},
+                  {"jumps", c.jumps},
                   {"particles_blocked", c.particles_blocked},
                   {"blocked_ignored", c.blocked_ignored},
                   {"ground_truth_rejected", truth_file_rejected}};
@@ -295,6 +297,9 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   res.final_particles = last.particles;
   res.final_status = last.status;
   res.final_pose = last.pose;
+  res.final_range_bias = last.range_bias;
+  res.final_odometry_scale_translation = last.odometry_scale_translation;
+  res.final_odometry_scale_rotation = last.odometry_scale_rotation;
   res.wall_s = std::chrono::duration<double>(Clock::now() - t_start).count();
   return res;
 }

@@ -98,6 +98,8 @@ struct JobResult {
   size_t final_particles = 0;
   MclStatus final_status = MclStatus::Initialising;
   Pose final_pose;
+  double final_range_bias = 0;        // m (mcl.range_bias)
+  double final_odometry_scale_translation = 1, final_odometry_scale_rotation = 1;  // mcl.motion.adapt
   double filter_s = 0, wall_s = 0;
   viz::LocalizePlotData plot;         // estimate path and clouds (truth path: see truthPath)
   std::vector<std::string> warnings;  // of the reader, first 5

@@ -1,10 +1,9 @@
 #include "viz/topview.hpp"
+#include "viz/png_file.hpp"
 
-#include <polyloc/io/atomic_file.hpp>
 #include <polyloc/map/slice.hpp>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
@@ -117,16 +116,6 @@ void TopView::drawScaleBar() {
               bgr(kBlack), 1, cv::LINE_AA);
 }
 
-void TopView::save(const std::string& png_path) const {
-  AtomicFile f(png_path);  // the old picture stays until the new one is whole
-  bool ok = false;
-  try {
-    ok = cv::imwrite(f.tmp(), canvas_->img);
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error("cannot write picture '" + png_path + "': " + e.what());
-  }
-  if (!ok) throw std::runtime_error("cannot write picture '" + png_path + "'");
-  f.commit();
-}
+void TopView::save(const std::string& png_path) const { writePng(canvas_->img, png_path); }
 
 }  // namespace polyloc::viz

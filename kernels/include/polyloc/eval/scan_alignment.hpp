@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace polyloc {
 
@@ -44,8 +45,16 @@ struct ScanAlignment {
 };
 
 // ranges: the sensor's beams in order (invalid ones skipped). Runs its casts on the caller's
-// threads (castScans of the caster).
+// threads (castScans of the caster). The map's range bias (mcl.range_bias: walls proud of the
+// surfaces) is the caller's: take it off the ranges first (rangeBiasAt, shiftRanges).
 ScanAlignment alignScan(const RayCaster& caster, const Rig& rig, size_t sensor, std::span<const float> ranges,
                         const Pose& map_T_base, const AlignmentSearch& search = {});
+
+// The range bias of one scan at a known pose (the refinement with refine.range_bias from there;
+// NaN when refused): the median over a run's scans is the map's.
+double rangeBiasAt(const RayCaster& caster, const Rig& rig, size_t sensor, std::span<const float> ranges,
+                   const Pose& map_T_base);
+// The ranges less `bias` (valid ones only, not below 0).
+std::vector<float> shiftRanges(std::span<const float> ranges, double bias, float range_max);
 
 }  // namespace polyloc

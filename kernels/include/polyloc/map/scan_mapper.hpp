@@ -37,6 +37,10 @@ struct ScanMapperConfig {
   // the beam saw, and a forward-looking scanner fits the map half a cell back; with 0.5 the
   // near face straddles the surface (floor of the real-log protocol 4.6 -> 2.6 cm on seattle).
   double hit_beyond = 0.5;
+  // A cell once occupied stays so (misses no longer lower it): an end-point map, as simple map
+  // tools mark every cell a return fell in, without the free-space carving that trims the cells
+  // grazing beams cross.
+  bool sticky_hits = false;
   size_t max_cells = size_t(1) << 25;  // 8 bytes a cell: 268 MB, 290 m x 290 m at 5 cm
 };
 

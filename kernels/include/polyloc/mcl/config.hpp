@@ -9,6 +9,18 @@
 
 namespace polyloc {
 
+// Odometry noise adapted to the evidence (odometry_noise.hpp): the alphas are scaled by how far
+// the scan-matched motion (refined estimates of consecutive rounds) departs from the odometry.
+struct OdometryNoiseAdapt {
+  bool enabled = true;
+  double gain = 0.2;           // weight of one innovation in the smoothed log variance ratio
+  double max_log_ratio = 2.0;  // one innovation moves the variance by at most e^(gain * this)
+  double min_scale = 1.0;      // the alphas are the least noise assumed ...
+  double max_scale = 8.0;      // ... and at most this many times them
+  double min_step = 0.1;       // m: shorter steps (that also turn less than min_turn) say little
+  double min_turn = 0.1;       // rad
+};
+
 struct MotionNoise {
   // Odometry noise (Thrun's alpha1..alpha4): rotation from rotation, rotation from translation,
   // translation from translation, translation from rotation.
@@ -25,6 +37,7 @@ struct MotionNoise {
   // The alphas are multiplied by this for the prediction after a round the fit check
   // contradicted (mcl.fit): a slip the Gaussian noise cannot follow is caught a round later.
   double recovery_scale = 4.0;
+  OdometryNoiseAdapt adapt;
 };
 
 struct BeamModel {
@@ -102,12 +115,25 @@ struct RefineConfig {
   double search_step_xy = 0.05;            // m: the coarse grid (then a quarter step around its best)
   double search_step_yaw = 0.0174532925199433;  // rad (1 deg)
   size_t search_beams = 120;
+  // The localiser widens the search to search_sigmas of the prediction's std (the last estimate's
+  // and the odometry's since), up to max_search_xy / max_search_yaw: long steps on bad odometry
+  // leave the cloud decimetres off (real logs, every 4th scan: 6 m between updates).
+  double search_sigmas = 2.0;
+  double max_search_xy = 0.5;              // m
+  double max_search_yaw = 0.139626340159546;  // rad (8 deg)
   // Degrees of freedom refined: 0 = the filter's dof; 6 also with dof 3, so that the tilted
   // scanners' view of the floor corrects z, roll and pitch taken from the floor under the robot.
   int dof = 0;
   // Raw ToF frames carry flying pixels and multipath returns that pass the residual gate and
   // bias the fit (about 0.2 deg of yaw on lab_tour); filtered depth could.
   bool depth_cameras = false;
+  // Range bias (map proudness): the level scanners' ranges run this much longer than the map
+  // says (m), estimated with the pose (a seventh parameter, prior std range_bias_prior around
+  // the bias already applied) and followed by the localiser (mcl.range_bias). An occupancy grid
+  // extruded cell by cell puts each wall face up to a cell in front of the surface the scans saw
+  // (real logs, end-point maps: about half a cell); a scan then fits the map only shifted back.
+  bool range_bias = false;
+  double range_bias_prior = 0.05;
 };
 
 // Depth-camera model (depth_model.hpp): the beam mixture over a pixel grid.
@@ -208,13 +234,38 @@ struct MclConfig {
   // three labs: 30 rounds gave 46/50 global successes, 10 gave 50/50; the real logs the same).
   size_t global_max_coarse_rounds = 10;
   // Sensor resetting: after this many rounds in a row whose scans contradict the estimate
-  // (mcl.fit), the filter starts over from a uniform prior of global_particles (0 disables).
+  // (mcl.fit) and that neither the refinement nor local recovery could pin, the filter starts
+  // over from a uniform prior of global_particles (0 disables).
   size_t relocalize_rounds = 5;
   // A tracked estimate that jumps farther than this (m) in one round, beyond what odometry
-  // moved, into a place the scans contradict, was taken over by injected particles: the filter
-  // starts over from a uniform prior rather than trust a place found by a handful of them
-  // (0 disables).
+  // moved, into a place the scans contradict, was taken over by injected particles: such a round
+  // counts towards relocalize_rounds unless local recovery finds a place that fits (0: never).
   double relocalize_jump = 1.0;
+  // Local recovery (sensor resetting near the prediction, Lenser and Veloso): when no particle
+  // explains a round's scans, the refinement cannot pin the estimate, or it jumped, places near
+  // the predicted pose (within recovery_sigmas of its position std, at least recovery_min_radius,
+  // at most recovery_max_radius, on a recovery_step lattice) x the headings within
+  // recovery_sigmas of its heading std (at least recovery_min_heading; every heading when nothing
+  // explains the scans) are screened (scan_screen.hpp), the best refined with the cloud's modes
+  // like global hypotheses, and those that fit planted: a heading or a position off by more than
+  // the cloud covers (a slip, a sharp turn on bad odometry) is found again within a round, not by
+  // a global reset.
+  bool recovery = true;
+  double recovery_sigmas = 3.0;      // radius: this many position std of the prediction ...
+  double recovery_min_radius = 0.5;  // ... at least (m)
+  double recovery_max_radius = 2.0;  // ... at most (m): farther is relocalisation's business
+  double recovery_step = 0.1;        // m between candidate positions
+  double recovery_min_heading = 0.7853981633974483;  // rad (45 deg)
+  // Range bias (refine.range_bias): the level scanners' ranges are shortened by a bias the
+  // refinements estimate (smoothed by range_bias_gain per accepted round, within
+  // +-range_bias_max m) before anything weighs them: a map whose walls stand proud of the
+  // surfaces (an extruded grid) then fits the scans unshifted. false: no bias.
+  bool range_bias = true;
+  double range_bias_gain = 0.2;
+  double range_bias_max = 0.15;
+  // A published pose more than this (m) from the previous one moved by odometry is not tracking:
+  // the status says the pose jumped (counted in `jumps`). 0: off.
+  double max_jump = 0.5;
   size_t beams_per_scan = 60;       // per sensor per update
   // Tempering by beam count: a frame's summed log-likelihood counts as that of this many
   // independent beams (scaled by effective_beams / beams used, when fewer than that are used).

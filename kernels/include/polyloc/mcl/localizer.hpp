@@ -46,6 +46,11 @@ struct MclEstimate {
   double map_fit = -1;
   std::vector<double> sensor_fit;
   bool unfit = false;
+  // The odometry noise scales the scans found (odometry_noise.hpp): translation, rotation.
+  double odometry_scale_translation = 1, odometry_scale_rotation = 1;
+  double range_bias = 0;    // m taken off the level scanners' ranges (mcl.range_bias)
+  bool recovered = false;   // this round planted local recovery hypotheses (mcl.recovery)
+  bool jumped = false;      // this round's pose moved more than mcl.max_jump beyond the odometry
 };
 
 // Counted rejections and events, for logs and the health channel.
@@ -63,6 +68,8 @@ struct MclCounters {
   uint64_t unfit = 0;            // rounds whose smoothed map fit was below mcl.fit.min_explained
   uint64_t refinements = 0, refinements_refused = 0;  // mcl.refine: accepted, refused
   uint64_t hypotheses = 0;  // refined modes planted back in global localisation (mcl.hypotheses)
+  uint64_t recoveries = 0;  // rounds that planted local recovery hypotheses (mcl.recovery)
+  uint64_t jumps = 0;       // published poses beyond mcl.max_jump of the previous one moved by odometry
 };
 
 class Localizer {

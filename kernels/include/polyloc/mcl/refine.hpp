@@ -44,6 +44,8 @@ struct RefineResult {
   double rms = 0;              // m, RMS point-to-plane residual of the inliers
   int iterations = 0;
   bool accepted = false;
+  double range_bias = 0;       // m, estimated with config.range_bias (else 0): add it to the bias applied
+  double range_bias_std = 0;   // m
   std::string reason;  // why not accepted ("" when accepted)
 };
 

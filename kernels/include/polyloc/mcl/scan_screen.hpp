@@ -38,8 +38,9 @@ class ScanScreen {
   // every better one; empty when no scan has a level beam. Deterministic: ties keep the lower
   // candidate index.
   // Candidates: `positions` (map_T_base; their headings ignored) x config.headings.
+  // heading_window > 0: only headings within it (rad) of each position's own heading.
   std::vector<Pose> best(const Rig& rig, std::span<const RefineScan> scans, std::span<const Pose> positions,
-                         double separation, double separation_yaw) const;
+                         double separation, double separation_yaw, double heading_window = 0) const;
 
  private:
   struct Impl;
