@@ -106,6 +106,7 @@ struct Localizer::Impl {
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
     odom_at_update = odom_at_predict = odom_at_round = scan_odom = odometry.at(stamp);
     last_refined.valid = false;
+    pose_cov_valid = false;
     initialised = true;
     if (config.dof == 3) floor.snapToFloor(ps);
     refreshEstimate(MclStatus::Initialising);
@@ -270,6 +271,7 @@ struct Localizer::Impl {
     if (config.refine.enabled) refineEstimate(predictionCovariance(before));
     checkEstimateFit();
     learnOdometryNoise();
+    trackCovariance(before, global_round);
     est.recovered = false;
     // The estimate could not be pinned against the map, or nothing explains the scans: search
     // near the prediction. A round that is only contradicted (beams seen through the map) but
@@ -391,6 +393,60 @@ struct Localizer::Impl {
     if (est.status == MclStatus::Tracking) est.status = MclStatus::Uncertain;
   }
 
+  // The covariance of the published pose, carried from round to round as an EKF carries it:
+  // the prediction adds the odometry's noise (scaled as the scans found it) and moves the last
+  // heading error into position by the step's lever arm; a refinement's fit (its beams counted
+  // as effective_beams) is fused in. The cloud's own spread is added on top (several modes). A
+  // collapsed cloud reads millimetres however well the pose is known; this does not: along a
+  // corridor the fit leaves the position open, the odometry's noise piles up, and the status
+  // turns uncertain there.
+  void trackCovariance(const MclEstimate& before, bool global_round) {
+    est.inconsistent = false;
+    auto planar = [](const Eigen::Matrix<double, 6, 6>& c) {
+      Eigen::Matrix3d m;
+      const int idx[3] = {0, 1, 5};
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) m(a, b) = c(idx[a], idx[b]);
+      return m;
+    };
+    const Eigen::Matrix3d cloud = planar(est.covariance);
+    if (global_round || before.status == MclStatus::Initialising || !pose_cov_valid) {
+      pose_cov = cloud + (est.refined ? planar(refine_cov) : Eigen::Matrix3d::Zero());
+    } else {
+      const Eigen::Matrix3d prior = propagateCovariance(pose_cov, before.pose, odom_at_round_prev.inverse() * odom_at_predict,
+                                                        odo_noise.scaled(config.motion));
+      if (est.refined) {
+        const Eigen::Matrix3d R = planar(refine_cov) + Eigen::Vector3d(1e-8, 1e-8, 1e-10).asDiagonal().toDenseMatrix();
+        // The innovation gate: a fit this far from where the last pose and the odometry put the
+        // robot (chi-square, 3 dof) means one of them is wrong, and which one the round cannot
+        // tell: not tracking (real logs, 10 % drift: a fit 0.5 m along a corridor from the truth,
+        // 7 std from the prediction, was published as tracking).
+        const Pose predicted = before.pose.planarProjection() * (odom_at_round_prev.inverse() * odom_at_predict).planarProjection();
+        const Pose d = predicted.inverse() * est.pose.planarProjection();
+        const double c = std::cos(predicted.yaw()), sn = std::sin(predicted.yaw());
+        const Eigen::Vector3d e(c * d.x() - sn * d.y(), sn * d.x() + c * d.y(), d.yaw());  // map frame
+        const double nis = e.dot((prior + R).ldlt().solve(e));
+        est.inconsistent = config.innovation_gate > 0 && before.status == MclStatus::Tracking && nis > config.innovation_gate;
+        if (est.inconsistent) ++counters.inconsistent;
+        pose_cov = (prior.inverse() + R.inverse()).inverse();
+      } else {
+        pose_cov = prior;
+      }
+      pose_cov += cloud;
+    }
+    pose_cov_valid = pose_cov.allFinite() && est.status != MclStatus::Lost;
+    if (!pose_cov.allFinite()) pose_cov = cloud;
+    // The published covariance: the tracked one in x, y, yaw; z, roll, pitch as the cloud and the fit say.
+    const int idx[3] = {0, 1, 5};
+    if (est.refined) est.covariance += refine_cov;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) est.covariance(idx[a], idx[b]) = pose_cov(a, b);
+    const double sxy = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(pose_cov.topLeftCorner<2, 2>()).eigenvalues().maxCoeff()));
+    if (est.status == MclStatus::Tracking &&
+        (sxy > config.uncertain_xy || std::sqrt(pose_cov(2, 2)) > config.uncertain_yaw || est.inconsistent))
+      est.status = MclStatus::Uncertain;
+  }
+
   // The prediction's uncertainty (x, y, yaw): the last estimate's and the motion since the last
   // round, with the noise the scans found in the odometry.
   Eigen::Matrix3d predictionCovariance(const MclEstimate& before) const {
@@ -496,7 +552,6 @@ struct Localizer::Impl {
     // effective_beams of them, as the weighting does (real logs: NEES ~10 without).
     const double dependent = config.effective_beams > 0 ? std::max(1.0, double(r.correspondences) / config.effective_beams) : 1.0;
     refine_cov = dependent * r.covariance;
-    est.covariance += refine_cov;
     est.refined = true;
     ++counters.refinements;
   }
@@ -530,6 +585,8 @@ struct Localizer::Impl {
     bool valid = false;
   } last_refined;          // the last refined, uncontradicted estimate
   Eigen::Matrix<double, 6, 6> refine_cov = Eigen::Matrix<double, 6, 6>::Zero();  // of this round's refinement
+  Eigen::Matrix3d pose_cov = Eigen::Matrix3d::Zero();  // the published pose's (x, y, yaw), carried over rounds
+  bool pose_cov_valid = false;
   double range_bias = 0;           // m, taken off the level scanners' ranges (mcl.range_bias)
   double bias_step = 0;            // what this round's refinement found on top of it
   std::vector<uint8_t> level;      // per rig sensor: a level scanner

@@ -52,6 +52,16 @@ Eigen::Matrix3d motionCovariance(const Pose& delta, const MotionNoise& n) {
   return J * var.asDiagonal() * J.transpose();
 }
 
+Eigen::Matrix3d propagateCovariance(const Eigen::Matrix3d& cov, const Pose& pose, const Pose& delta,
+                                    const MotionNoise& noise) {
+  const Pose p = pose.planarProjection(), d = delta.planarProjection();
+  const Eigen::Matrix3d J = composeJacobian(p, d);
+  const double c = std::cos(p.yaw()), s = std::sin(p.yaw());
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // the start frame into the map frame
+  R.topLeftCorner<2, 2>() << c, -s, s, c;
+  return J * cov * J.transpose() + R * motionCovariance(d, noise) * R.transpose();
+}
+
 bool OdometryNoise::addPair(const Pose& prev, const Eigen::Matrix<double, 6, 6>& prev_cov, const Pose& now,
                             const Eigen::Matrix<double, 6, 6>& now_cov, const Pose& odom_delta, const MotionNoise& base) {
   const Pose delta = odom_delta.planarProjection();

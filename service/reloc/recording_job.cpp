@@ -289,6 +289,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"hypotheses", c.hypotheses},
                   {"recoveries", c.recoveries},
                   {"jumps", c.jumps},
+                  {"inconsistent", c.inconsistent},
                   {"particles_blocked", c.particles_blocked},
                   {"blocked_ignored", c.blocked_ignored},
                   {"ground_truth_rejected", truth_file_rejected}};

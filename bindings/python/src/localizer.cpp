@@ -83,7 +83,7 @@ pb::dict counters(const MclCounters& c) {
   POLYLOC_COUNTER(weights_collapsed) POLYLOC_COUNTER(scans) POLYLOC_COUNTER(scans_rejected) POLYLOC_COUNTER(updates)
   POLYLOC_COUNTER(resamples) POLYLOC_COUNTER(injected) POLYLOC_COUNTER(relocalizations) POLYLOC_COUNTER(refinements)
   POLYLOC_COUNTER(refinements_refused) POLYLOC_COUNTER(hypotheses)
-  POLYLOC_COUNTER(recoveries) POLYLOC_COUNTER(jumps)
+  POLYLOC_COUNTER(recoveries) POLYLOC_COUNTER(jumps) POLYLOC_COUNTER(inconsistent)
 #undef POLYLOC_COUNTER
   return d;
 }

@@ -266,6 +266,11 @@ struct MclConfig {
   // A published pose more than this (m) from the previous one moved by odometry is not tracking:
   // the status says the pose jumped (counted in `jumps`). 0: off.
   double max_jump = 0.5;
+  // A refined pose whose innovation against the prediction (the last pose moved by odometry;
+  // covariance: the tracked pose's carried over the step plus the fit's) exceeds this
+  // chi-square value (3 dof; 16.27: 99.9 %) is not tracking: the fit or the odometry is wrong,
+  // the round cannot tell which (`inconsistent` counter). 0: off.
+  double innovation_gate = 16.27;
   size_t beams_per_scan = 60;       // per sensor per update
   // Tempering by beam count: a frame's summed log-likelihood counts as that of this many
   // independent beams (scaled by effective_beams / beams used, when fewer than that are used).

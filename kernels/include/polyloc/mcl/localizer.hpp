@@ -51,6 +51,7 @@ struct MclEstimate {
   double range_bias = 0;    // m taken off the level scanners' ranges (mcl.range_bias)
   bool recovered = false;   // this round planted local recovery hypotheses (mcl.recovery)
   bool jumped = false;      // this round's pose moved more than mcl.max_jump beyond the odometry
+  bool inconsistent = false;  // the refined pose failed the innovation gate (mcl.innovation_gate)
 };
 
 // Counted rejections and events, for logs and the health channel.
@@ -70,6 +71,7 @@ struct MclCounters {
   uint64_t hypotheses = 0;  // refined modes planted back in global localisation (mcl.hypotheses)
   uint64_t recoveries = 0;  // rounds that planted local recovery hypotheses (mcl.recovery)
   uint64_t jumps = 0;       // published poses beyond mcl.max_jump of the previous one moved by odometry
+  uint64_t inconsistent = 0;  // refined poses outside the innovation gate of the prediction
 };
 
 class Localizer {

@@ -29,6 +29,11 @@ namespace polyloc {
 // Covariance (x, y, yaw in the start frame) of the motion model's noise for one planar step.
 Eigen::Matrix3d motionCovariance(const Pose& delta, const MotionNoise& noise);
 
+// A planar pose's covariance (x, y, yaw, map frame) carried over one step `delta` (in the pose's
+// frame) with the motion noise: the heading's error moves the position by the step's lever arm.
+Eigen::Matrix3d propagateCovariance(const Eigen::Matrix3d& cov, const Pose& pose, const Pose& delta,
+                                    const MotionNoise& noise);
+
 class OdometryNoise {
  public:
   explicit OdometryNoise(const OdometryNoiseAdapt& config = {}) : config_(config) {}
