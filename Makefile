@@ -57,8 +57,10 @@ build: configure
 bench: build
 	$(BUILD_DIR)/bin/bench_raycast --benchmark_counters_tabular=true
 
-# The real-log table of docs/benchmarks.md on all eight shared logs (about 10 minutes on 2
-# cores), checked against the claimed figures (docs/carmen_figures.json): fails on a 1.5x regression.
+# The real-log robustness matrix of docs/benchmarks.md on all eight shared logs (every map style x
+# drift level x decimation, 20 global trials per map style; a few hours on 2 cores: LOGS=... and
+# ARGS=... run less, bench/carmen_table.sh), checked against the claimed figures
+# (docs/carmen_figures.json): fails on a 1.5x regression.
 bench-carmen: build
 	CHECK=docs/carmen_figures.json bench/carmen_table.sh $(BUILD_DIR)
 

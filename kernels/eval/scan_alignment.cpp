@@ -42,11 +42,4 @@ double rangeBiasAt(const RayCaster& caster, const Rig& rig, size_t sensor, std::
   return r.accepted ? r.range_bias : std::numeric_limits<double>::quiet_NaN();
 }
 
-std::vector<float> shiftRanges(std::span<const float> ranges, double bias, float range_max) {
-  std::vector<float> out(ranges.begin(), ranges.end());
-  for (float& r : out)
-    if (std::isfinite(r) && r < range_max) r = std::max(0.0f, r - float(bias));
-  return out;
-}
-
 }  // namespace polyloc

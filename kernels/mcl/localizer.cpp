@@ -14,6 +14,7 @@
 #include <polyloc/mcl/odometry_buffer.hpp>
 #include <polyloc/mcl/odometry_noise.hpp>
 #include <polyloc/mcl/particles.hpp>
+#include <polyloc/mcl/pose_covariance.hpp>
 #include <polyloc/mcl/refine.hpp>
 #include <polyloc/mcl/resample.hpp>
 #include <polyloc/mcl/reset_policy.hpp>
@@ -21,7 +22,6 @@
 #include <polyloc/mcl/scan_screen.hpp>
 #include <polyloc/mcl/weighing.hpp>
 
-#include <Eigen/Eigenvalues>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -106,7 +106,7 @@ struct Localizer::Impl {
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
     odom_at_update = odom_at_predict = odom_at_round = scan_odom = odometry.at(stamp);
     last_refined.valid = false;
-    pose_cov_valid = false;
+    pose_cov.invalidate();
     initialised = true;
     if (config.dof == 3) floor.snapToFloor(ps);
     refreshEstimate(MclStatus::Initialising);
@@ -361,8 +361,7 @@ struct Localizer::Impl {
     const std::vector<RefineScan> scans = roundScans();
     if (scans.empty()) return;
     const Eigen::Matrix3d cov = predictionCovariance(before);
-    const double sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov.topLeftCorner<2, 2>()).eigenvalues().maxCoeff()));
-    const double radius = std::clamp(config.recovery_sigmas * sigma, config.recovery_min_radius, config.recovery_max_radius);
+    const double radius = std::clamp(config.recovery_sigmas * maxPositionStd(cov), config.recovery_min_radius, config.recovery_max_radius);
     // When nothing explains the scans the heading may be anything: every heading is screened.
     const double window = lost_round ? M_PI : std::clamp(config.recovery_sigmas * std::sqrt(cov(2, 2)), config.recovery_min_heading, M_PI);
     std::vector<Pose> positions;
@@ -393,57 +392,32 @@ struct Localizer::Impl {
     if (est.status == MclStatus::Tracking) est.status = MclStatus::Uncertain;
   }
 
-  // The covariance of the published pose, carried from round to round as an EKF carries it:
-  // the prediction adds the odometry's noise (scaled as the scans found it) and moves the last
-  // heading error into position by the step's lever arm; a refinement's fit (its beams counted
-  // as effective_beams) is fused in. The cloud's own spread is added on top (several modes). A
-  // collapsed cloud reads millimetres however well the pose is known; this does not: along a
-  // corridor the fit leaves the position open, the odometry's noise piles up, and the status
-  // turns uncertain there.
+  // The published covariance (pose_covariance.hpp): the tracked one in x, y, yaw (the cloud's
+  // spread added: several modes), z, roll, pitch as the cloud and the fit say; a fit that fails
+  // the innovation gate against the prediction (the fit or the odometry is wrong, the round
+  // cannot tell which: real logs, 10 % drift, a fit 0.5 m along a corridor from the truth, 7 std
+  // from the prediction, was published as tracking) or a tracked std beyond uncertain_xy /
+  // uncertain_yaw is not tracking.
   void trackCovariance(const MclEstimate& before, bool global_round) {
     est.inconsistent = false;
-    auto planar = [](const Eigen::Matrix<double, 6, 6>& c) {
-      Eigen::Matrix3d m;
-      const int idx[3] = {0, 1, 5};
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) m(a, b) = c(idx[a], idx[b]);
-      return m;
-    };
-    const Eigen::Matrix3d cloud = planar(est.covariance);
-    if (global_round || before.status == MclStatus::Initialising || !pose_cov_valid) {
-      pose_cov = cloud + (est.refined ? planar(refine_cov) : Eigen::Matrix3d::Zero());
+    const Eigen::Matrix3d cloud = planarCovariance(est.covariance);
+    const Eigen::Matrix3d fit = planarCovariance(refine_cov);
+    if (global_round || before.status == MclStatus::Initialising || !pose_cov.valid()) {
+      pose_cov.restart(cloud + (est.refined ? fit : Eigen::Matrix3d::Zero()));
     } else {
-      const Eigen::Matrix3d prior = propagateCovariance(pose_cov, before.pose, odom_at_round_prev.inverse() * odom_at_predict,
-                                                        odo_noise.scaled(config.motion));
-      if (est.refined) {
-        const Eigen::Matrix3d R = planar(refine_cov) + Eigen::Vector3d(1e-8, 1e-8, 1e-10).asDiagonal().toDenseMatrix();
-        // The innovation gate: a fit this far from where the last pose and the odometry put the
-        // robot (chi-square, 3 dof) means one of them is wrong, and which one the round cannot
-        // tell: not tracking (real logs, 10 % drift: a fit 0.5 m along a corridor from the truth,
-        // 7 std from the prediction, was published as tracking).
-        const Pose predicted = before.pose.planarProjection() * (odom_at_round_prev.inverse() * odom_at_predict).planarProjection();
-        const Pose d = predicted.inverse() * est.pose.planarProjection();
-        const double c = std::cos(predicted.yaw()), sn = std::sin(predicted.yaw());
-        const Eigen::Vector3d e(c * d.x() - sn * d.y(), sn * d.x() + c * d.y(), d.yaw());  // map frame
-        const double nis = e.dot((prior + R).ldlt().solve(e));
-        est.inconsistent = config.innovation_gate > 0 && before.status == MclStatus::Tracking && nis > config.innovation_gate;
-        if (est.inconsistent) ++counters.inconsistent;
-        pose_cov = (prior.inverse() + R.inverse()).inverse();
-      } else {
-        pose_cov = prior;
-      }
-      pose_cov += cloud;
+      const double nis = pose_cov.update(before.pose, odom_at_round_prev.inverse() * odom_at_predict, odo_noise.scaled(config.motion),
+                                         est.pose, est.refined ? &fit : nullptr);
+      est.inconsistent = config.innovation_gate > 0 && before.status == MclStatus::Tracking && nis > config.innovation_gate;
+      counters.inconsistent += est.inconsistent;
+      pose_cov.restart(pose_cov.covariance() + cloud);
     }
-    pose_cov_valid = pose_cov.allFinite() && est.status != MclStatus::Lost;
-    if (!pose_cov.allFinite()) pose_cov = cloud;
-    // The published covariance: the tracked one in x, y, yaw; z, roll, pitch as the cloud and the fit say.
-    const int idx[3] = {0, 1, 5};
+    if (!pose_cov.valid()) pose_cov.restart(cloud);
+    if (est.status == MclStatus::Lost) pose_cov.invalidate();
     if (est.refined) est.covariance += refine_cov;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) est.covariance(idx[a], idx[b]) = pose_cov(a, b);
-    const double sxy = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(pose_cov.topLeftCorner<2, 2>()).eigenvalues().maxCoeff()));
+    setPlanarCovariance(est.covariance, pose_cov.covariance());
+    const Eigen::Matrix3d& p = pose_cov.covariance();
     if (est.status == MclStatus::Tracking &&
-        (sxy > config.uncertain_xy || std::sqrt(pose_cov(2, 2)) > config.uncertain_yaw || est.inconsistent))
+        (maxPositionStd(p) > config.uncertain_xy || std::sqrt(p(2, 2)) > config.uncertain_yaw || est.inconsistent))
       est.status = MclStatus::Uncertain;
   }
 
@@ -535,8 +509,7 @@ struct Localizer::Impl {
     // The search covers the prediction's uncertainty (a collapsed cloud says nothing about it):
     // long steps on bad odometry leave the estimate decimetres off, beyond a fixed window.
     if (rc.search_xy > 0 || rc.search_yaw > 0) {
-      const double sxy = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(prior.topLeftCorner<2, 2>()).eigenvalues().maxCoeff()));
-      rc.search_xy = std::clamp(rc.search_sigmas * sxy, rc.search_xy, std::max(rc.search_xy, rc.max_search_xy));
+      rc.search_xy = std::clamp(rc.search_sigmas * maxPositionStd(prior), rc.search_xy, std::max(rc.search_xy, rc.max_search_xy));
       rc.search_yaw = std::clamp(rc.search_sigmas * std::sqrt(prior(2, 2)), rc.search_yaw, std::max(rc.search_yaw, rc.max_search_yaw));
       rc.max_correction = std::max(rc.max_correction, rc.search_xy + config.refine.max_correction);
       rc.max_correction_yaw = std::max(rc.max_correction_yaw, rc.search_yaw + config.refine.max_correction_yaw);
@@ -585,8 +558,7 @@ struct Localizer::Impl {
     bool valid = false;
   } last_refined;          // the last refined, uncontradicted estimate
   Eigen::Matrix<double, 6, 6> refine_cov = Eigen::Matrix<double, 6, 6>::Zero();  // of this round's refinement
-  Eigen::Matrix3d pose_cov = Eigen::Matrix3d::Zero();  // the published pose's (x, y, yaw), carried over rounds
-  bool pose_cov_valid = false;
+  PoseCovariance pose_cov;  // the published pose's (x, y, yaw), carried over rounds
   double range_bias = 0;           // m, taken off the level scanners' ranges (mcl.range_bias)
   double bias_step = 0;            // what this round's refinement found on top of it
   std::vector<uint8_t> level;      // per rig sensor: a level scanner
@@ -700,9 +672,7 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
   // The map's proudness (mcl.range_bias) taken off a level scanner's ranges before anything
   // weighs or keeps them.
   if (d.range_bias != 0 && d.level[sensor]) {
-    d.biased.assign(ranges.begin(), ranges.end());
-    for (float& r : d.biased)
-      if (std::isfinite(r) && r < d.beams[sensor].range_max) r = std::max(0.0f, r - float(d.range_bias));
+    subtractRangeBias(ranges, d.range_bias, d.beams[sensor].range_max, d.biased);
     ranges = d.biased;
   }
   d.run([&] {

@@ -1,4 +1,5 @@
 #include <polyloc/mcl/odometry_noise.hpp>
+#include <polyloc/mcl/pose_covariance.hpp>
 
 #include <Eigen/Cholesky>
 
@@ -16,14 +17,6 @@ Eigen::Matrix3d composeJacobian(const Pose& p, const Pose& d) {
   J(0, 2) = -(d.x() * s + d.y() * c);
   J(1, 2) = d.x() * c - d.y() * s;
   return J;
-}
-
-Eigen::Matrix3d planarCov(const Eigen::Matrix<double, 6, 6>& c) {
-  Eigen::Matrix3d m;
-  const int idx[3] = {0, 1, 5};
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) m(a, b) = c(idx[a], idx[b]);
-  return m;
 }
 
 }  // namespace
@@ -77,7 +70,7 @@ bool OdometryNoise::addPair(const Pose& prev, const Eigen::Matrix<double, 6, 6>&
   R.topLeftCorner<2, 2>() << c, s, -s, c;
   const Eigen::Matrix3d Jp = composeJacobian(prev.planarProjection(), delta);
   const Eigen::Matrix3d S = motionCovariance(delta, scaled(base)) +
-                            R * (Jp * planarCov(prev_cov) * Jp.transpose() + planarCov(now_cov)) * R.transpose() +
+                            R * (Jp * planarCovariance(prev_cov) * Jp.transpose() + planarCovariance(now_cov)) * R.transpose() +
                             Eigen::Vector3d(1e-6, 1e-6, 1e-8).asDiagonal().toDenseMatrix();
   const Eigen::Matrix2d Sxy = S.topLeftCorner<2, 2>();
   const Eigen::LDLT<Eigen::Matrix2d> ldlt(Sxy);

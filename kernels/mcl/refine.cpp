@@ -67,6 +67,12 @@ double rotationAngle(const Pose& a, const Pose& b) {
 
 }  // namespace
 
+void subtractRangeBias(std::span<const float> ranges, double bias, float range_max, std::vector<float>& out) {
+  out.assign(ranges.begin(), ranges.end());
+  for (float& r : out)
+    if (std::isfinite(r) && r < range_max) r = std::max(0.0f, r - float(bias));
+}
+
 RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans,
                         const Pose& map_T_base, int dof, const RefineConfig& cfg) {
   if (dof != 3 && dof != 6) throw std::invalid_argument("refinePose: dof must be 3 or 6");

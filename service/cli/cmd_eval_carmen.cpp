@@ -142,7 +142,7 @@ void registerEvalCarmen(CLI::App& eval) {
   c.add_option("--restamp", a->eval.restamp_hz, "Rate at which runs whose stamps do not increase are restamped by order (Hz)")->capture_default_str()->check(finiteRange(1e-3, 1e9));
   c.add_flag("--no-floor", [a](int64_t) { a->eval.floor = false; }, "Skip the floor (alignment of every test scan)");
   c.add_option("--plot", a->plot, "PNG of the first map, truth, estimates, odometry and global starts");
-  c.add_option("--strips", a->strips, "PNG grid of error-over-time strips, one per case (rows map styles, columns odometry x decimation)");
+  c.add_option("--strips", a->strips, "PNG grid of error-over-time strips, one per case (rows map style x decimation, columns odometry)");
   c.add_option("--save", a->save, "Folder for the maps (OBJ, grid), each case's run (MCAP), estimates (TUM, CSV) and the truth");
   c.add_flag("--json", a->json, "Summary as one JSON object on stdout");
   c.callback([a] { run(*a); });

@@ -9,6 +9,7 @@
 #include <polyloc/io/memory_recording.hpp>
 #include <polyloc/io/recorded_geometry.hpp>
 #include <polyloc/mcl/fit_check.hpp>
+#include <polyloc/mcl/refine.hpp>
 #include <polyloc/mcl/weighing.hpp>
 #include <polyloc/raycast/embree.hpp>
 
@@ -75,7 +76,8 @@ void measureFloor(const RealLog& log, const std::vector<size_t>& test, const Rig
   for (size_t i = 0; i < test.size(); ++i) {
     const LoggedScan& s = log.scans[test[i]];
     const Pose known = knownPose(s);
-    const std::vector<float> ranges = shiftRanges(s.scan.ranges, m.range_bias, range_max);
+    std::vector<float> ranges;
+    subtractRangeBias(s.scan.ranges, m.range_bias, range_max, ranges);
     const ScanAlignment a = alignScan(caster, rig, size_t(sensor), ranges, known);
     m.floor_refined += a.refined;
     m.floor_std_along.push_back(a.refined ? a.std_along : std::numeric_limits<double>::infinity());

@@ -194,17 +194,22 @@ void drawCarmenStrips(const CarmenEvalResult& r, const std::string& png_path) {
   viz::ErrorStripGrid g;
   g.title = fmt::format("polyloc eval carmen {}: {} test scans", std::filesystem::path(r.log).filename().string(), r.test_scans);
   g.limit_m = kCarmenLostM;
-  std::vector<std::pair<std::string, size_t>> columns;  // (odometry, decimate), in case order
-  for (const auto& c : r.cases)
-    if (std::find(columns.begin(), columns.end(), std::pair{c.odometry, c.decimate}) == columns.end())
-      columns.emplace_back(c.odometry, c.decimate);
-  for (const auto& [odo, dec] : columns) g.column_labels.push_back(fmt::format("{} odometry, every {}", odo, dec == 1 ? std::string("scan") : fmt::format("{}th", dec)));
-  for (const auto& m : r.maps) g.row_labels.push_back(m.map.style);
+  // Rows: map style x decimation; columns: odometry (in case order). Roughly square for the matrix.
+  std::vector<std::string> columns;
+  std::vector<size_t> decimations;
+  for (const auto& c : r.cases) {
+    if (std::find(columns.begin(), columns.end(), c.odometry) == columns.end()) columns.push_back(c.odometry);
+    if (std::find(decimations.begin(), decimations.end(), c.decimate) == decimations.end()) decimations.push_back(c.decimate);
+  }
+  for (const auto& odo : columns) g.column_labels.push_back(odo + " odometry");
+  for (const auto& m : r.maps)
+    for (size_t dec : decimations) g.row_labels.push_back(fmt::format("{} x{}", m.map.style, dec));
   g.strips.resize(g.row_labels.size() * columns.size());
   for (auto& s : g.strips) s.empty = true;
   for (const auto& c : r.cases) {
-    const size_t col = size_t(std::find(columns.begin(), columns.end(), std::pair{c.odometry, c.decimate}) - columns.begin());
-    viz::ErrorStrip& s = g.strips[c.map * columns.size() + col];
+    const size_t col = size_t(std::find(columns.begin(), columns.end(), c.odometry) - columns.begin());
+    const size_t row = c.map * decimations.size() + size_t(std::find(decimations.begin(), decimations.end(), c.decimate) - decimations.begin());
+    viz::ErrorStrip& s = g.strips[row * columns.size() + col];
     if (!c.metrics) continue;
     s.empty = false;
     const ErrorSummary& e = c.metrics->all;
@@ -215,8 +220,6 @@ void drawCarmenStrips(const CarmenEvalResult& r, const std::string& png_path) {
     if (c.floor)
       for (const FrameError& f : c.floor->frames) s.floor_t_s.push_back(f.t_s), s.floor_m.push_back(f.pos_err);
   }
-  // The floor's times count from its own first frame; the run's from the filter's start: the same
-  // first stamp, so the axes agree.
   viz::drawErrorStrips(g, png_path);
 }
 

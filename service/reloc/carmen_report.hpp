@@ -21,7 +21,7 @@ nlohmann::json carmenJson(const CarmenEvalResult& r, const CarmenEvalOptions& o)
 // The summary lines and the matrix table (fixed-width text).
 std::string carmenText(const CarmenEvalResult& r, const CarmenEvalOptions& o);
 
-// Rows map styles, columns odometry x decimation (viz/error_strips.hpp).
+// Rows map style x decimation, columns odometry (viz/error_strips.hpp).
 void drawCarmenStrips(const CarmenEvalResult& r, const std::string& png_path);
 
 // The first map style's slice, the truth, the first drift case's and the own case's estimates,

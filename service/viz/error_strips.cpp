@@ -11,7 +11,7 @@
 namespace polyloc::viz {
 namespace {
 
-constexpr int kPanelW = 340, kPanelH = 130, kLabelW = 90, kHeaderH = 60, kTitleH = 16;
+constexpr int kPanelW = 340, kPanelH = 130, kLabelW = 110, kHeaderH = 60, kTitleH = 16;
 constexpr double kMinErr = 0.001, kMaxErr = 5.0;
 
 cv::Scalar statusColor(MclStatus s) {

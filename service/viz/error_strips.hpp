@@ -1,5 +1,5 @@
 // A grid of error-over-time strips (PNG), one panel per case of a matrix (polyloc eval carmen's
-// robustness matrix: rows map styles, columns odometry x decimation). Each panel plots a run's
+// robustness matrix: rows map style x decimation, columns odometry). Each panel plots a run's
 // planar position error per frame on a log scale (1 mm .. 5 m), the points coloured by the
 // status the localiser published (green tracking, orange uncertain, red lost, grey initialising),
 // the floor of the map at the same frames as a grey line, and the 0.5 m line a `tracking` frame

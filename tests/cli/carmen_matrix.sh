@@ -43,8 +43,8 @@ for n in ("endpoint/high/x1", "endpoint/high/x2"):
 maps = {m["style"]: m for m in got["maps"]}
 assert maps["endpoint"]["floor"]["range_bias_m"] > 0.01 and abs(maps["polyloc"]["floor"]["range_bias_m"]) < 0.015, maps
 PY
-  # 2 rows x 4 columns of panels (340 x 130 px each); every panel has points in the status
+  # 4 rows (map style x decimation) x 2 columns (drift) of panels (340 x 130 px each); every panel has points in the status
   # colours (tracking green) and the dashed 0.5 m line (red).
-  python3 "$src/tests/tools/png_check.py" "$tmp/$name.png" --min-size 1400x300 --colour tracking=1EA03C:30:1500 \
+  python3 "$src/tests/tools/png_check.py" "$tmp/$name.png" --min-size 750x500 --colour tracking=1EA03C:30:1500 \
     --colour limit=DC2828:30:300
 done

@@ -46,7 +46,8 @@ struct ScanAlignment {
 
 // ranges: the sensor's beams in order (invalid ones skipped). Runs its casts on the caller's
 // threads (castScans of the caster). The map's range bias (mcl.range_bias: walls proud of the
-// surfaces) is the caller's: take it off the ranges first (rangeBiasAt, shiftRanges).
+// surfaces) is the caller's: take it off the ranges first (rangeBiasAt, mcl/refine.hpp's
+// subtractRangeBias).
 ScanAlignment alignScan(const RayCaster& caster, const Rig& rig, size_t sensor, std::span<const float> ranges,
                         const Pose& map_T_base, const AlignmentSearch& search = {});
 
@@ -54,7 +55,5 @@ ScanAlignment alignScan(const RayCaster& caster, const Rig& rig, size_t sensor, 
 // NaN when refused): the median over a run's scans is the map's.
 double rangeBiasAt(const RayCaster& caster, const Rig& rig, size_t sensor, std::span<const float> ranges,
                    const Pose& map_T_base);
-// The ranges less `bias` (valid ones only, not below 0).
-std::vector<float> shiftRanges(std::span<const float> ranges, double bias, float range_max);
 
 }  // namespace polyloc

@@ -19,6 +19,7 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 namespace polyloc {
 
@@ -48,6 +49,10 @@ struct RefineResult {
   double range_bias_std = 0;   // m
   std::string reason;  // why not accepted ("" when accepted)
 };
+
+// Ranges less a range bias (refine.range_bias, mcl.range_bias): the valid ones (finite, below
+// range_max) only, never below 0; into `out` (resized).
+void subtractRangeBias(std::span<const float> ranges, double bias, float range_max, std::vector<float>& out);
 
 // scans: the latest scan of each sensor (any subset of the rig; one sensor may appear twice).
 // dof: 3 (x, y, yaw) or 6. Throws std::invalid_argument for a bad sensor index or dof.
