@@ -76,8 +76,11 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
   c.recovery_max_radius = m.getDouble("recovery_max_radius", c.recovery_max_radius, c.recovery_min_radius, 100);
   c.recovery_step = m.getDouble("recovery_step", c.recovery_step, 0.01, 10);
   c.recovery_min_heading = m.getAngle("recovery_min_heading", c.recovery_min_heading);
+  c.recovery_min_fit = m.getDouble("recovery_min_fit", c.recovery_min_fit, 0, 1);
   c.max_jump = m.getDouble("max_jump", c.max_jump, 0, 1e6);
   c.innovation_gate = m.getDouble("innovation_gate", c.innovation_gate, 0, 1e9);
+  c.innovation_floor_xy = m.getDouble("innovation_floor_xy", c.innovation_floor_xy, 0, 100);
+  c.innovation_floor_yaw = m.getAngle("innovation_floor_yaw", c.innovation_floor_yaw);
   c.range_bias = m.getBool("range_bias", c.range_bias);
   c.range_bias_gain = m.getDouble("range_bias_gain", c.range_bias_gain, 0, 1);
   c.range_bias_max = m.getDouble("range_bias_max", c.range_bias_max, 0, 10);

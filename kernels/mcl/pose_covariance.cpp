@@ -36,7 +36,7 @@ void PoseCovariance::restart(const Eigen::Matrix3d& cov) {
 }
 
 double PoseCovariance::update(const Pose& pose, const Pose& delta, const MotionNoise& noise, const Pose& now,
-                              const Eigen::Matrix3d* fit) {
+                              const Eigen::Matrix3d* fit, const Eigen::Vector3d& floor) {
   const Eigen::Matrix3d prior = propagateCovariance(cov_, pose, delta, noise);
   double nis = 0;
   if (fit) {
@@ -45,7 +45,8 @@ double PoseCovariance::update(const Pose& pose, const Pose& delta, const MotionN
     const Pose d = predicted.inverse() * now.planarProjection();
     const double c = std::cos(predicted.yaw()), s = std::sin(predicted.yaw());
     const Eigen::Vector3d e(c * d.x() - s * d.y(), s * d.x() + c * d.y(), d.yaw());  // map frame
-    nis = e.dot((prior + R).ldlt().solve(e));
+    const Eigen::Matrix3d S = prior + R + floor.cwiseAbs2().asDiagonal().toDenseMatrix();
+    nis = e.dot(S.ldlt().solve(e));
     cov_ = (prior.inverse() + R.inverse()).inverse();
   } else {
     cov_ = prior;

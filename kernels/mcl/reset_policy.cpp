@@ -7,7 +7,10 @@ ResetPolicy::ResetPolicy(const MclConfig& config)
       relocalize_rounds_(config.relocalize_rounds), relocalize_jump_(config.relocalize_jump) {}
 
 void ResetPolicy::reset() {
-  rounds_since_reset_ = low_rounds_ = 0;
+  // Started at a given pose: no global phase to protect from another reset (a kidnapping five
+  // rounds after the start is recovered as one after fifty).
+  rounds_since_reset_ = 2 * relocalize_rounds_;
+  low_rounds_ = 0;
   coarse_left_ = 0;
 }
 
@@ -50,14 +53,15 @@ bool ResetPolicy::relocalize(bool jumped, bool contradicted, bool refined) {
   // A round counts only when the refinement could not pin the estimate either: at the right
   // place a quarter of the beams may see through for minutes on end where the map holds a door
   // that is open now (a map made over a long run: freiburg-079), and the scans still fit it.
-  // A jump into a contradicted place is such a round too, not a reset by itself: one round is
-  // no evidence that the track is lost (a sharp turn on bad odometry throws the cloud off for a
-  // round, and local recovery finds the place again; a reset after one such round cost 27 m for
-  // five rounds on a real log), several in a row are.
+  // A jump into a contradicted place that local recovery could not explain (the localiser clears
+  // `jumped` when a place near the prediction fits: a sharp turn on bad odometry throws the
+  // cloud off for a round, and a global reset then cost 27 m for five rounds on a real log) is
+  // a kidnapping: the global search starts at once.
   const bool low = (contradicted && !refined) || jumped;
   low_rounds_ = low ? low_rounds_ + 1 : 0;
   ++rounds_since_reset_;
-  return relocalize_rounds_ > 0 && low_rounds_ >= relocalize_rounds_ && rounds_since_reset_ > 2 * relocalize_rounds_;
+  return jumped ||
+         (relocalize_rounds_ > 0 && low_rounds_ >= relocalize_rounds_ && rounds_since_reset_ > 2 * relocalize_rounds_);
 }
 
 }  // namespace polyloc

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # polyloc eval carmen on one shared real log (../shared/data/carmen), the defaults (no config: the
-# polyloc map, mid drift, every test scan, the log's own odometry, 5 global trials), against the
+# polyloc map, mid drift, the log's own odometry; 2 global trials, on the two longest logs a prefix
+# of the test scans, to keep make test within its time), against the
 # figures measured with the same command (tests/cli/eval_carmen_expected.json): the floor within
 # 30 %, ATE / p95 / worst frame of each case and its ratio to the floor at most 1.4x the measured
 # (a 1.5x regression fails), no more relocalisations, tracking frames beyond 0.5 m or unannounced
 # jumps than measured, the global trials that succeeded at most one fewer (or 1.5x the failures);
-# the run twice gives the same estimates, the PNG is a picture with the paths and the global trials
+# on the logs marked so, the run twice gives the same estimates; the PNG is a picture with the paths and the global trials
 # drawn (png_check). Usage: eval_carmen.sh POLYLOC SRC LOG
 set -euo pipefail
 polyloc=$1 src=$2 name=$3
@@ -17,9 +18,16 @@ expected="$src/tests/cli/eval_carmen_expected.json"
 args=$(python3 -c 'import json,sys; print(" ".join(json.load(open(sys.argv[1]))[sys.argv[2]]["args"]))' "$expected" "$name")
 # shellcheck disable=SC2086
 "$polyloc" eval carmen --log "$log" $args --json --plot "$tmp/eval.png" >"$tmp/a.json" 2>"$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
-args_b=$(echo "$args" | sed 's/--global-trials [0-9]*//')
-# shellcheck disable=SC2086
-"$polyloc" eval carmen --log "$log" $args_b --json --no-floor --global-trials 0 >"$tmp/b.json" 2>"$tmp/err_b" || { cat "$tmp/err_b" >&2; exit 1; }
+# Same input, config and seed give the same estimates: run again (floor and global trials
+# skipped) on the logs marked "determinism" (one is enough to catch it; each run costs a minute
+# of CI on two cores).
+if python3 -c 'import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))[sys.argv[2]].get("determinism") else 1)' "$expected" "$name"; then
+  args_b=$(echo "$args" | sed 's/--global-trials [0-9]*//')
+  # shellcheck disable=SC2086
+  "$polyloc" eval carmen --log "$log" $args_b --json --no-floor --global-trials 0 >"$tmp/b.json" 2>"$tmp/err_b" || { cat "$tmp/err_b" >&2; exit 1; }
+else
+  echo '{"cases": []}' >"$tmp/b.json"
+fi
 python3 - "$tmp/a.json" "$tmp/b.json" "$expected" "$name" <<'PY'
 import json, math, sys
 a, b, exp_all, name = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), json.load(open(sys.argv[3])), sys.argv[4]
@@ -43,7 +51,8 @@ for n, ev in e["cases"].items():
         assert got[key] <= ev[key], (n, key, got[key], ev[key])
     assert got["counters"]["relocalizations"] <= ev["relocalizations"], (n, got["counters"]["relocalizations"])
     # Same input, config and seed: the same estimates (the second run skipped floor and global).
-    assert got["ate_rmse_m"] == cases_b[n]["ate_rmse_m"] and got["frames"] == cases_b[n]["frames"], n
+    if e.get("determinism"):
+        assert got["ate_rmse_m"] == cases_b[n]["ate_rmse_m"] and got["frames"] == cases_b[n]["frames"], n
 g, eg = m["global"], e["global"]
 fail, efail = g["trials"] - g["succeeded"], eg["trials"] - eg["succeeded"]
 assert g["trials"] == eg["trials"] and fail <= max(efail + 1, math.floor(1.5 * efail)), f"{name} global {g['succeeded']}/{g['trials']} vs {eg['succeeded']}"
@@ -56,9 +65,9 @@ PY
 # black (truth and legend) at least 4,700 (the fewest measured: 9,552). A picture without paths
 # or trials fails.
 case "$name" in
-  aces) est=3900 ok=580 ;;   csail) est=8800 ok=490 ;;   edmonton) est=5900 ok=380 ;;
-  freiburg-079) est=1500 ok=570 ;;   freiburg-101) est=2400 ok=490 ;;
-  infinite-corridor) est=1500 ok=90 ;;   orebro) est=2400 ok=480 ;;   seattle) est=1400 ok=470 ;;
+  aces) est=3900 ok=120 ;;   csail) est=8800 ok=120 ;;   edmonton) est=5900 ok=120 ;;
+  freiburg-079) est=750 ok=120 ;;   freiburg-101) est=2400 ok=120 ;;
+  infinite-corridor) est=900 ok=45 ;;   orebro) est=2400 ok=120 ;;   seattle) est=1400 ok=120 ;;
   *) echo "no picture figures for log $name" >&2; exit 1 ;;
 esac
 python3 "$src/tests/tools/png_check.py" "$tmp/eval.png" --min-size 2000x2000 --min-colours 2000 --ink 0.007,0.07 \

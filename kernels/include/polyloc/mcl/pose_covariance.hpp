@@ -32,9 +32,11 @@ class PoseCovariance {
   // One round: the covariance carried from `pose` over `delta` (pose frame) with `noise`
   // (propagateCovariance); with a fit (`fit`: its covariance, `now`: the fitted pose), fused
   // with it. Returns the fit's normalised innovation squared against the prediction (3 dof),
-  // 0 without a fit. Not valid before restart().
+  // 0 without a fit; `floor` (std of x, y, yaw) is added to the innovation's covariance only,
+  // the errors neither model carries (a fit's covariance from the scan's curvature is
+  // millimetres in a well-constrained room). Not valid before restart().
   double update(const Pose& pose, const Pose& delta, const MotionNoise& noise, const Pose& now,
-                const Eigen::Matrix3d* fit);
+                const Eigen::Matrix3d* fit, const Eigen::Vector3d& floor = Eigen::Vector3d::Zero());
 
  private:
   Eigen::Matrix3d cov_ = Eigen::Matrix3d::Zero();
