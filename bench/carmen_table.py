@@ -22,7 +22,7 @@ def main():
     out, check, logs = sys.argv[1], sys.argv[2], sys.argv[3:]
     figures, worst = {}, []
     by_level = defaultdict(list)  # (drift, decimate) -> ratios over logs and maps
-    print("| log | map | floor cm (bias cm) | cases | ATE / floor: median, worst (case) | tracking > 0.5 m | unannounced jumps | NEES mean (median over cases) | global (20) |")
+    print("| log | map | floor cm (bias cm) | cases | ATE / floor: median, worst (case) | tracking > 0.5 m | unannounced jumps | NEES mean (median over cases) | global |")
     print("| --- | --- | ---: | ---: | --- | ---: | ---: | ---: | ---: |")
     for log in logs:
         j = json.load(open(f"{out}/{log}.json"))

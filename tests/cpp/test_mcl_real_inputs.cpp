@@ -122,6 +122,26 @@ TEST(PoseCovariance, GrowsWhereTheFitLeavesThePositionOpenAndShrinksWhereItPins)
   EXPECT_GT(off, 16.27);
 }
 
+TEST(PoseCovariance, TheGateFloorForgivesCentimetresNotDecimetres) {
+  // Fit and prediction both millimetre-sure (a simulated room, scan-matched odometry): a 3 cm
+  // disagreement is far outside the gate on their covariances alone, and inside it with the
+  // floor of what neither carries (mcl.innovation_floor_xy 3 cm, _yaw 1 deg); 30 cm is not.
+  const MclConfig cfg;
+  const Eigen::Vector3d floor(cfg.innovation_floor_xy, cfg.innovation_floor_xy, cfg.innovation_floor_yaw);
+  const Eigen::Matrix3d sure = Eigen::Vector3d(1e-6, 1e-6, 1e-7).asDiagonal();
+  MotionNoise still;
+  still.alpha1 = still.alpha2 = still.alpha3 = still.alpha4 = 0;
+  const Pose pose = Pose::planar(1, 2, 0.3), step = Pose::planar(0.1, 0, 0);
+  auto nis = [&](double off, const Eigen::Vector3d& f) {
+    PoseCovariance c;
+    c.restart(sure);
+    return c.update(pose, step, still, pose * step * Pose::planar(off, 0, 0), &sure, f);
+  };
+  EXPECT_GT(nis(0.03, Eigen::Vector3d::Zero()), 100.0);
+  EXPECT_LT(nis(0.03, floor), cfg.innovation_gate);
+  EXPECT_GT(nis(0.30, floor), cfg.innovation_gate);
+}
+
 TEST(LocalRecovery, AHeadingErrorTheCloudCannotFollowIsFoundAgain) {
   // Tracking well, then one odometry step that claims 50 deg less turn than the robot made (a
   // wheel slipping in a turn): the cloud (5 %/rad noise) cannot cover it; local recovery screens
