@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace polyloc {
@@ -68,6 +69,9 @@ int64_t ConfigValue::asInt() const {
     errno = 0;
     const long long v = std::strtoll(s.c_str(), &end, 10);
     if (!s.empty() && end == s.c_str() + s.size() && errno == 0) return v;
+    // "1e7" is an integer too, when it is one exactly and fits (checked before any narrowing).
+    double d;
+    if (parseDouble(s, d) && d == std::floor(d) && std::abs(d) < 9.2e18) return int64_t(d);
   }
   fail("expected an integer, got " + shown(node_));
 }
@@ -131,7 +135,19 @@ ConfigMap::ConfigMap(YAML::Node node, std::shared_ptr<const std::string> file, s
     : node_(std::move(node)),
       file_(std::move(file)),
       prefix_(std::move(prefix)),
-      known_(std::make_shared<std::set<std::string>>()) {}
+      known_(std::make_shared<std::set<std::string>>()) {
+  // yaml-cpp keeps a repeated key and lookups return its first value: the later one would be
+  // silently dropped, so a repeated key is an error naming both places.
+  if (!node_.IsMap()) return;
+  std::map<std::string, YAML::Node> seen;
+  for (const auto& kv : node_) {
+    if (!kv.first.IsScalar()) continue;
+    const auto [it, fresh] = seen.emplace(kv.first.Scalar(), kv.first);
+    if (!fresh)
+      throw ConfigError(configWhere(*file_, kv.first) + ": " + keyPath(kv.first.Scalar()) +
+                        ": repeated key (first at " + configWhere(*file_, it->second) + ")");
+  }
+}
 
 ConfigMap ConfigMap::load(const std::string& file) {
   std::ifstream in(file, std::ios::binary);

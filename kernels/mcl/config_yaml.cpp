@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace polyloc {
 
@@ -16,7 +17,8 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     if (v < 1 || v > 10'000'000) m.value(key).fail("must be between 1 and 10000000");
     return size_t(v);
   };
-  c.dof = int(m.getInt("dof", c.dof));
+  // Every integer is range-checked as int64 before it is narrowed (2^32 + 3 must not become 3).
+  c.dof = int(m.getCount("dof", size_t(c.dof), 0, 6));
   if (c.dof != 3 && c.dof != 6) m.value("dof").fail("must be 3 or 6");
   {
     std::vector<std::string> names = sensorModelNames();
@@ -32,7 +34,19 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
   c.caster = m.getChoice("caster", c.caster, casterNames());
   c.caster_resolution = m.getDouble("caster_resolution", c.caster_resolution, 1e-3, 10);
   if (m.has("caster_height")) c.caster_height = m.getDouble("caster_height", 0.3, -100, 100);
-  c.gpu_platforms = m.getString("gpu_platforms", c.gpu_platforms);
+  if (m.has("gpu_platforms")) {  // checked here, so --check names it, not the first GPU start
+    const ConfigValue v = m.value("gpu_platforms");
+    c.gpu_platforms = v.asString();
+    std::string p;
+    std::istringstream list(c.gpu_platforms);
+    size_t n = 0;
+    while (std::getline(list, p, ',')) {
+      ++n;
+      if (p != "surfaceless" && p != "device" && p != "default")
+        v.fail("unknown EGL platform '" + p + "' (a comma-separated list of surfaceless, device, default)");
+    }
+    if (n == 0) v.fail("names no EGL platform (surfaceless, device, default)");
+  }
   c.gpu_fallback = m.getChoice("gpu_fallback", c.gpu_fallback, {"none", "embree"});
   if (rig) {
     try {
@@ -98,9 +112,8 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
   c.blocked_max_mass = m.getDouble("blocked_max_mass", c.blocked_max_mass, 0, 1);
   c.uncertain_xy = m.getDouble("uncertain_xy", c.uncertain_xy, 0, kBig);
   c.uncertain_yaw = m.getAngle("uncertain_yaw", c.uncertain_yaw);
-  c.seed = uint64_t(m.getInt("seed", int64_t(c.seed)));
-  c.threads = int(m.getInt("threads", c.threads));
-  if (c.threads < 0) m.value("threads").fail("must be >= 0 (0 = all cores)");
+  c.seed = uint64_t(m.getCount("seed", size_t(c.seed), 0, size_t(std::numeric_limits<int64_t>::max())));
+  c.threads = int(m.getCount("threads", size_t(c.threads), 0, 4096));  // 0 = all cores
   if (m.has("motion")) {
     ConfigMap n = m.map("motion");
     MotionNoise& mn = c.motion;
@@ -140,8 +153,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     ConfigMap r = m.map("refine");
     RefineConfig& rc = c.refine;
     rc.enabled = r.getBool("enabled", rc.enabled);
-    rc.iterations = int(r.getInt("iterations", rc.iterations));
-    if (rc.iterations < 1 || rc.iterations > 1000) r.value("iterations").fail("must be between 1 and 1000");
+    rc.iterations = int(r.getCount("iterations", size_t(rc.iterations), 1, 1000));
     const int64_t beams = r.getInt("beams_per_scan", int64_t(rc.beams_per_scan));
     if (beams < 0) r.value("beams_per_scan").fail("must be >= 0 (0 = all)");
     rc.beams_per_scan = size_t(beams);
@@ -149,7 +161,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     rc.huber = r.getDouble("huber", rc.huber, 1e-5, 100);
     rc.min_step = r.getDouble("min_step", rc.min_step, 0, 1);
     rc.max_final_step = r.getDouble("max_final_step", rc.max_final_step, 0, 1);
-    rc.min_correspondences = size_t(r.getInt("min_correspondences", int64_t(rc.min_correspondences)));
+    rc.min_correspondences = r.getCount("min_correspondences", rc.min_correspondences, 0, 10'000'000);
     rc.max_correction = r.getDouble("max_correction", rc.max_correction, 0, 100);
     rc.max_correction_yaw = r.getAngle("max_correction_yaw", rc.max_correction_yaw);
     rc.min_inlier_ratio = r.getDouble("min_inlier_ratio", rc.min_inlier_ratio, 0, 1);
@@ -166,7 +178,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     rc.search_step_xy = r.getDouble("search_step_xy", rc.search_step_xy, 1e-3, 10);
     rc.search_step_yaw = r.getAngle("search_step_yaw", rc.search_step_yaw);
     if (!(rc.search_step_yaw > 0)) r.value("search_step_yaw").fail("must be positive");
-    rc.dof = int(r.getInt("dof", rc.dof));
+    rc.dof = int(r.getCount("dof", size_t(rc.dof), 0, 6));
     rc.depth_cameras = r.getBool("depth_cameras", rc.depth_cameras);
     if (rc.dof != 0 && rc.dof != 3 && rc.dof != 6) r.value("dof").fail("must be 0 (the filter's), 3 or 6");
     r.finish();
@@ -202,6 +214,11 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
       sc.keep = sm.getCount("keep", sc.keep, 0, 10'000);
       sc.positions = sm.getCount("positions", sc.positions, 1, 10'000'000);
       sc.headings = sm.getCount("headings", sc.headings, 1, 3600);
+      // The screen scores every position at every heading each round (12 bytes a pair: 120 MB).
+      constexpr size_t kMaxPairs = 10'000'000;
+      if (sc.positions * sc.headings > kMaxPairs)
+        sm.fail("positions x headings = " + std::to_string(sc.positions * sc.headings) + " exceeds " +
+                std::to_string(kMaxPairs) + " (the memory budget of one screening round, 12 bytes a pair)");
       sc.beams_per_scan = sm.getCount("beams_per_scan", sc.beams_per_scan, 1, 100'000);
       sc.truncate = sm.getDouble("truncate", sc.truncate, 1e-3, 100);
       sc.resolution = sm.getDouble("resolution", sc.resolution, 0.01, 10);

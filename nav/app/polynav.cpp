@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
 
   struct Event { size_t goal; int state; double t; std::string status; std::string phase; };
   std::vector<Event> events;
-  int64_t t0 = 0;
+  int64_t t0 = 0, last_stamp = 0;
   uint64_t decisions = 0, lost = 0;
   int last_state = -1;
   polynav::Phase last_phase = polynav::Phase::Done;
@@ -189,6 +189,12 @@ int main(int argc, char** argv) {
     if (polyloc_read_next(c, vrs_ch, buf.data(), uint32_t(buf.size()), &info) != POLYLOC_OK) continue;
     polyloc_vrs v;
     std::memcpy(&v, buf.data(), sizeof v);
+    // The count is the writer's word: never copy beyond what the slot holds.
+    if (info.size < offsetof(polyloc_vrs, ranges) || v.count > (std::min<size_t>(info.size, buf.size()) - offsetof(polyloc_vrs, ranges)) / sizeof(float)) {
+      std::fprintf(stderr, "polynav: VRS frame of %u bytes claims %u ranges; skipped\n", info.size, v.count);
+      continue;
+    }
+    last_stamp = v.stamp_ns;
     polynav::NavInput in;
     if (!t0) t0 = v.stamp_ns;
     in.t = double(v.stamp_ns - t0) * 1e-9;
@@ -197,7 +203,8 @@ int main(int argc, char** argv) {
     in.scan.range_max = v.range_max;
     in.scan.ranges.resize(v.count);
     std::memcpy(in.scan.ranges.data(), buf.data() + offsetof(polyloc_vrs, ranges), v.count * sizeof(float));
-    polyloc_pose p;
+    polyloc_pose p{};  // a failed read leaves it an identity pose, never uninitialised memory
+    p.qw = 1, p.map_odom[3] = 1;
     in.localised = polyloc_read_pose(c, &p, nullptr) == POLYLOC_OK && p.status == POLYLOC_POSE_TRACKING;
     if (!in.localised) ++lost;
     polyloc_odometry odom;
@@ -231,8 +238,13 @@ int main(int argc, char** argv) {
     }
     if (ctrl->done() && a.exit_when_done) break;
   }
-  // Leave the base standing: one zero command (the base's timeout would stop it anyway).
-  polyloc_write_command(c, cmd_ch, 0, 0, 0, 0, POLYLOC_NAV_IDLE, uint32_t(goals.size()), "polynav stopped");
+  // Leave the base standing: one zero command (the base's timeout would stop it anyway), stamped
+  // just after the last one so that the base takes it (a stamp of 0 is no time: refused).
+  timespec now{};
+  clock_gettime(CLOCK_REALTIME, &now);
+  const int64_t stop_stamp = last_stamp > 0 ? last_stamp + 1 : int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+  if (polyloc_write_command(c, cmd_ch, stop_stamp, 0, 0, 0, POLYLOC_NAV_IDLE, uint32_t(goals.size()), "polynav stopped") != POLYLOC_OK)
+    std::fprintf(stderr, "polynav: the stop command was not written: %s\n", polyloc_last_error());
   if (!a.quiet && tty) std::fprintf(stderr, "\n");
   if (a.json) {
     std::printf("{\"decisions\": %llu, \"not_localised\": %llu, \"goals\": %zu, \"events\": [", (unsigned long long)decisions,

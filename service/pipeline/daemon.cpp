@@ -2,6 +2,7 @@
 
 #include "pipeline/pipeline.hpp"
 #include "pipeline/shm_payloads.hpp"
+#include "pipeline/source_clock.hpp"
 #include "shm/channel.hpp"
 #include "shm/validate.hpp"
 
@@ -57,7 +58,8 @@ struct Daemon::Impl final : PipelineSink {
   size_t cycle_next = 0;
   uint64_t cycles = 0;
   int64_t current_publish_ns = 0;        // of the input frame being processed (latency)
-  int64_t source_now_ns = INT64_MIN;     // newest stamp taken (clock: source)
+  PipelineCounters earlier;              // outputs of the pipelines a time jump replaced
+  SourceClock clock{d.cfg_.daemon.max_age_ns, d.cfg_.daemon.max_future_ns, d.cfg_.daemon.clock_agree};  // clock: source
   int64_t last_health_ns = 0;
   std::vector<uint8_t> out;              // payload being built
 
@@ -153,7 +155,51 @@ struct Daemon::Impl final : PipelineSink {
   }
 
   int64_t clockNow() const {
-    return d.cfg_.daemon.source_clock ? (source_now_ns == INT64_MIN ? nowNs(CLOCK_REALTIME) : source_now_ns) : nowNs(CLOCK_REALTIME);
+    return d.cfg_.daemon.source_clock && clock.started() ? clock.now() : nowNs(CLOCK_REALTIME);
+  }
+
+  // Since the start, over every pipeline a time jump replaced.
+  PipelineCounters counters() const {
+    PipelineCounters c = pipe->counters();
+    c.poses += earlier.poses, c.vrs += earlier.vrs, c.tracks += earlier.tracks;
+    return c;
+  }
+
+  // clock: source moved to another time (SourceClock): what was held of the old time goes.
+  void timeJumped(int64_t from, int64_t to) {
+    spdlog::warn("clock: source: the inputs agree on a time {:.3f} s {} the clock's; localisation starts again "
+                 "(jump {}; a recording restarted, or a frame stamped wrong was the first)",
+                 std::abs(double(static_cast<__int128>(to) - from)) * 1e-9, to > from ? "after" : "before", clock.jumps());
+    for (auto& h : health) h.last_stamp_ns = 0;
+    pass.clear();
+    const PipelineCounters& old = pipe->counters();  // health's counters never go back
+    earlier.poses += old.poses, earlier.vrs += old.vrs, earlier.tracks += old.tracks;
+    pipe = std::make_unique<Pipeline>(d.cfg_.polyloc, map, *caster, weigh.get());
+  }
+
+  // The stamp rules of clock: source (SourceClock); true when the frame is taken.
+  bool admit(size_t i, int64_t stamp) {
+    using V = SourceClock::Verdict;
+    const int64_t before = clock.now();
+    const V v = clock.judge(i, stamp, health[i].last_stamp_ns);
+    if (v == V::Take) {
+      clock.taken(stamp);
+      return true;
+    }
+    shm::Validation why;
+    why.reject = v == V::Future ? shm::Reject::Future : shm::Reject::Stale;
+    if (v == V::Repeat) {
+      why.why = fmt::format("{} frame stamped {} ns: not after the last frame's {}", desc(int(i)).name, stamp, health[i].last_stamp_ns);
+      reject(int(i), 0, why);
+      return false;
+    }
+    why.why = fmt::format("{} frame stamped {} ns: {:.3f} s {} the source clock ({} ns; max_{} {:.3f} s)", desc(int(i)).name, stamp,
+                          std::abs(double(static_cast<__int128>(stamp) - before)) * 1e-9, v == V::Stale ? "before" : "after",
+                          before, v == V::Stale ? "age" : "future",
+                          double(v == V::Stale ? d.cfg_.daemon.max_age_ns : d.cfg_.daemon.max_future_ns) * 1e-9);
+    reject(int(i), 0, why);
+    if (clock.refused(i, stamp)) timeJumped(before, clock.now());
+    return false;
   }
 
   // Reads every input channel dry; true when something was read.
@@ -162,8 +208,9 @@ struct Daemon::Impl final : PipelineSink {
     bool any = false;
     // One `now` for the whole pass: with clock: source, a backlog read in one pass must not
     // make the slower channels' frames stale against the faster ones' newest stamps.
+    const bool source = d.cfg_.daemon.source_clock;
     const int64_t now = clockNow();
-    const bool no_time_yet = d.cfg_.daemon.source_clock && source_now_ns == INT64_MIN;  // nothing to be stale against
+    clock.beginPass();
     // What every channel holds at one instant, and no more: a frame published while this pass
     // reads is newer than all of them (writers publish in stamp order), so the sorted pass never
     // puts a scan after odometry that came later than it.
@@ -177,10 +224,10 @@ struct Daemon::Impl final : PipelineSink {
         any = true;
         shm::StampRules rules;
         rules.now_ns = now;
-        rules.last_ns = health[i].last_stamp_ns ? health[i].last_stamp_ns : INT64_MIN;
-        rules.max_age_ns = d.cfg_.daemon.max_age_ns;
-        rules.max_future_ns = d.cfg_.daemon.source_clock ? INT64_MAX / 4 : d.cfg_.daemon.max_future_ns;
-        if (no_time_yet) rules.max_age_ns = INT64_MAX / 4;
+        // source: SourceClock judges order too (a time that jumped back is a vote, not a repeat).
+        rules.last_ns = health[i].last_stamp_ns && !source ? health[i].last_stamp_ns : INT64_MIN;
+        rules.max_age_ns = source ? -1 : d.cfg_.daemon.max_age_ns;  // source: SourceClock judges age and future
+        rules.max_future_ns = source ? -1 : d.cfg_.daemon.max_future_ns;
         const shm::Validation v = shm::validateInput(desc(int(i)), f->frame, buf.data(), buf.size(), rules);
         if (!v) {
           reject(int(i), f->frame, v);
@@ -188,9 +235,9 @@ struct Daemon::Impl final : PipelineSink {
         }
         int64_t stamp = 0;
         std::memcpy(&stamp, buf.data(), sizeof stamp);  // every input payload starts with stamp_ns
+        if (source && !admit(i, stamp)) continue;
         health[i].last_stamp_ns = stamp;
         last_taken_mono[i] = nowNs(CLOCK_MONOTONIC);
-        source_now_ns = std::max(source_now_ns, stamp);
         pass.push_back({stamp, f->publish_ns, int(i), std::move(buf)});
         buf = {};
       }
@@ -295,7 +342,7 @@ struct Daemon::Impl final : PipelineSink {
     polyloc_health h{};
     h.stamp_ns = nowNs(CLOCK_REALTIME);
     h.cycles = cycles;
-    const PipelineCounters& pc = pipe->counters();
+    const PipelineCounters pc = counters();
     h.poses = pc.poses, h.vrs = pc.vrs, h.tracks = pc.tracks;
     std::vector<double> c(cycle_ms.begin(), cycle_ms.end());
     if (!c.empty()) {
@@ -372,7 +419,7 @@ void Daemon::run(const std::atomic<bool>& stop) {
     if (m.readInputs()) {
       m.cycle();
     } else {
-      m.takeRequests(m.source_now_ns == INT64_MIN ? nowNs(CLOCK_REALTIME) : m.source_now_ns);
+      m.takeRequests(m.clockNow());
       shm::waitDoorbell(m.seg, seen, 20'000'000);  // 20 ms: health and silence checks go on
     }
     m.publishHealth(false);
@@ -382,8 +429,8 @@ void Daemon::run(const std::atomic<bool>& stop) {
   // it, which is how clients still attached tell a restart.
   m.seg.stop();
   m.live.reset();  // closes the viewers' connections
-  spdlog::info("stopped after {} cycles: {} poses, {} VRS, {} track sets", m.cycles, m.pipe->counters().poses,
-               m.pipe->counters().vrs, m.pipe->counters().tracks);
+  const PipelineCounters pc = m.counters();
+  spdlog::info("stopped after {} cycles: {} poses, {} VRS, {} track sets", m.cycles, pc.poses, pc.vrs, pc.tracks);
 }
 
 }  // namespace polyloc::pipeline

@@ -26,7 +26,10 @@ DaemonConfig parseDaemonConfig(ConfigMap m) {
     return static_cast<int64_t>(std::llround(m.getDouble(key, double(def) * 1e-9, lo, hi) * 1e9));
   };
   c.max_age_ns = ns("max_age", c.max_age_ns, 0.001, 3600);
-  c.max_future_ns = ns("max_future", c.max_future_ns, 0, 3600);
+  // Under clock: source the newest stamp is "now" and the next frame is a frame period, or a
+  // pause in the recording, after it: a wider default.
+  c.max_future_ns = ns("max_future", c.source_clock ? 2'000'000'000 : c.max_future_ns, 0, 3600);
+  c.clock_agree = m.getCount("clock_agree", c.clock_agree, 1, 1000);
   c.input_timeout_ns = ns("input_timeout", c.input_timeout_ns, 0.01, 3600);
   c.health_rate_hz = m.getDouble("health_rate", c.health_rate_hz, 0.1, 1000);
   if (m.has("init")) {
@@ -46,7 +49,13 @@ DaemonConfig parseDaemonConfig(ConfigMap m) {
   if (m.has("control")) {
     ConfigMap k = m.map("control");
     c.control.enabled = k.getBool("enabled", c.control.enabled);
-    c.control.bind = k.getString("bind", c.control.bind);
+    if (k.has("bind")) {  // checked here, so --check names it with file:line, not the start
+      const ConfigValue v = k.value("bind");
+      c.control.bind = v.asString();
+      in_addr buf{};
+      if (inet_pton(AF_INET, c.control.bind.c_str(), &buf) != 1)
+        v.fail("'" + c.control.bind + "' is not an IPv4 address (127.0.0.1: this computer only; 0.0.0.0: every interface)");
+    }
     c.control.port = static_cast<uint16_t>(k.getCount("port", c.control.port, 0, 65535));
     k.finish();
   }

@@ -8,7 +8,8 @@
 //     slots: 16              # ring slots per channel
 //     clock: wall            # wall: stamps are CLOCK_REALTIME; source: time is the newest input stamp
 //     max_age: 0.5           # s: older frames are stale
-//     max_future: 0.1        # s: frames stamped later than now + this are rejected
+//     max_future: 0.1        # s: frames stamped later than now + this are rejected (source: 2 s)
+//     clock_agree: 5         # source: refused frames in a row that move the clock (a jump)
 //     input_timeout: 1.0     # s: an input silent this long is reported (health, log)
 //     health_rate: 10        # Hz
 //     init: global           # global | ground_truth-free start pose {x, y, z, yaw, sigma_xy, sigma_yaw}
@@ -45,7 +46,8 @@ struct DaemonConfig {
   uint32_t slots = 16;
   bool source_clock = false;
   int64_t max_age_ns = 500'000'000;
-  int64_t max_future_ns = 100'000'000;
+  int64_t max_future_ns = 100'000'000;  // 2 s under clock: source when not set
+  size_t clock_agree = 5;
   int64_t input_timeout_ns = 1'000'000'000;
   double health_rate_hz = 10;
   std::optional<InitPose> init;  // nullopt: global localisation

@@ -101,6 +101,8 @@ bool olderThan(int64_t a, int64_t b, int64_t d) { return static_cast<__int128>(a
 bool laterThan(int64_t a, int64_t b, int64_t d) { return static_cast<__int128>(a) > static_cast<__int128>(b) + d; }
 
 Validation stamps(const Check& c, int64_t stamp, const StampRules& r) {
+  // 0 means "no frame yet" in every health and status field; a time before 1970 is no sensor's.
+  if (stamp <= 0) return c.fail(Reject::Stale, "stamp " + std::to_string(stamp) + " ns is not a time (stamps are > 0)");
   if (r.last_ns != INT64_MIN && stamp <= r.last_ns)
     return c.fail(Reject::Stale, "stamp " + std::to_string(stamp) + " ns is not after the last frame's " +
                                      std::to_string(r.last_ns));

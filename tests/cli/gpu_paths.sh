@@ -28,11 +28,13 @@ config() {  # office.yaml with absolute paths and extra mcl keys
   sed -e "s|\.\./office.obj|$src/maps/office.obj|; s|\.\./rigs/|$src/maps/rigs/|; s|^mcl:.*|mcl:\n$1|" maps/config/office.yaml
 }
 config "  caster: gpu" > "$tmp/gpu.yaml"
-config "  caster: gpu\n  gpu_platforms: nonsense" > "$tmp/none.yaml"
-config "  caster: gpu\n  gpu_platforms: nonsense\n  gpu_fallback: embree" > "$tmp/fallback.yaml"
+config "  caster: gpu\n  gpu_platforms: nonsense" > "$tmp/bad.yaml"
+config "  caster: gpu\n  gpu_fallback: embree" > "$tmp/fallback.yaml"
+# No usable GPU: glvnd given no vendor library, so EGL offers no platform at all.
+noegl() { __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json "$@"; }
 gpu=$("$polyloc" localize --config "$tmp/gpu.yaml" --input "$tmp/run.mcap" --json 2>/dev/null)
 cpu=$("$polyloc" localize --config maps/config/office.yaml --input "$tmp/run.mcap" --json 2>/dev/null)
-fb=$("$polyloc" localize --config "$tmp/fallback.yaml" --input "$tmp/run.mcap" --json 2>"$tmp/fb.err")
+fb=$(noegl "$polyloc" localize --config "$tmp/fallback.yaml" --input "$tmp/run.mcap" --json 2>"$tmp/fb.err")
 python3 - "$gpu" "$cpu" "$fb" <<'PY'
 import json, sys
 gpu, cpu, fb = (json.loads(a) for a in sys.argv[1:4])
@@ -42,9 +44,14 @@ assert gpu["ate_rmse_m"] <= 1.5 * cpu["ate_rmse_m"] + 1e-4, (gpu["ate_rmse_m"], 
 assert gpu["p95_yaw_err_deg"] <= 1.5 * cpu["p95_yaw_err_deg"] + 0.01
 assert fb["ate_rmse_m"] == cpu["ate_rmse_m"], "the fallback is the Embree filter"
 PY
-grep -q "warning: gpu: .*nonsense.*using the embree caster" "$tmp/fb.err" || { cat "$tmp/fb.err" >&2; exit 1; }
-if "$polyloc" localize --config "$tmp/none.yaml" --input "$tmp/run.mcap" >"$tmp/out" 2>"$tmp/err"; then
+grep -q "warning: gpu: no EGL display.*using the embree caster" "$tmp/fb.err" || { cat "$tmp/fb.err" >&2; exit 1; }
+if noegl "$polyloc" localize --config "$tmp/gpu.yaml" --input "$tmp/run.mcap" >"$tmp/out" 2>"$tmp/err"; then
   echo "localize with no usable GPU and no fallback succeeded" >&2; exit 1
 fi
-grep -q "nonsense" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+grep -q "no EGL display" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+# An unknown platform is a config error with file:line:key, before anything runs (issue 31).
+if "$polyloc" localize --config "$tmp/bad.yaml" --input "$tmp/run.mcap" >"$tmp/out" 2>"$tmp/err"; then
+  echo "gpu_platforms: nonsense was accepted" >&2; exit 1
+fi
+grep -q "bad.yaml:[0-9]*:[0-9]*: mcl.gpu_platforms: unknown EGL platform 'nonsense'" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
 echo "gpu paths: ok"

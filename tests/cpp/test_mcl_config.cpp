@@ -6,6 +6,19 @@
 
 using namespace polyloc;
 
+namespace {
+// The message parseMclConfig throws for a file "t.yaml" holding `text`; empty when it passes.
+std::string error(const std::string& text) {
+  try {
+    ConfigMap m = ConfigMap::parse(text, "t.yaml");
+    parseMclConfig(m.map("mcl"));
+  } catch (const ConfigError& e) {
+    return std::string(e.what());
+  }
+  return std::string();
+}
+}  // namespace
+
 TEST(MclConfigYaml, ReadsValuesAndKeepsDefaults) {
   ConfigMap m = ConfigMap::parse("mcl:\n  dof: 6\n  particles: 3000\n  update_min_angle: 5\n"
                                  "  motion: {alpha1: 0.1, drive: omni}\n  beam: {sigma_hit: 0.03}\n",
@@ -22,15 +35,6 @@ TEST(MclConfigYaml, ReadsValuesAndKeepsDefaults) {
 }
 
 TEST(MclConfigYaml, UnknownKeysAndBadValuesNameTheKey) {
-  auto error = [](const std::string& text) {
-    try {
-      ConfigMap m = ConfigMap::parse(text, "t.yaml");
-      parseMclConfig(m.map("mcl"));
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
   EXPECT_NE(error("mcl:\n  particels: 10\n").find("particels"), std::string::npos);
   EXPECT_NE(error("mcl:\n  beam: {sigma: 1}\n").find("sigma"), std::string::npos);
   EXPECT_NE(error("mcl:\n  dof: 4\n").find("dof"), std::string::npos);
@@ -42,6 +46,8 @@ TEST(MclConfigYaml, UnknownKeysAndBadValuesNameTheKey) {
   EXPECT_NE(error("mcl:\n  hypotheses: {screen: {headings: 0}}\n").find("headings"), std::string::npos);
   EXPECT_NE(error("mcl:\n  hypotheses: {screen: {kep: 3}}\n").find("kep"), std::string::npos);
   EXPECT_NE(error("mcl:\n  blocked_max_mass: 2\n").find("blocked_max_mass"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  recovery_min_fit: 1.5\n").find("recovery_min_fit"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  innovation_floor_xy: -1\n").find("innovation_floor_xy"), std::string::npos);
 }
 
 TEST(MclConfigYaml, HypothesesAndRelocalizationKeys) {
@@ -59,10 +65,55 @@ TEST(MclConfigYaml, HypothesesAndRelocalizationKeys) {
   EXPECT_EQ(c.hypotheses.screen.headings, 36u);
   EXPECT_DOUBLE_EQ(c.hypotheses.screen.truncate, 0.2);
   EXPECT_EQ(c.hypotheses.screen.positions, ScanScreenConfig{}.positions);
+  const MclConfig g = parseMclConfig(
+      ConfigMap::parse("mcl:\n  innovation_floor_xy: 0.05\n  innovation_floor_yaw: 2\n  recovery_min_fit: 0.6\n", "t.yaml")
+          .map("mcl"));
+  EXPECT_DOUBLE_EQ(g.innovation_floor_xy, 0.05);
+  EXPECT_NEAR(g.innovation_floor_yaw, deg2rad(2), 1e-12);
+  EXPECT_DOUBLE_EQ(g.recovery_min_fit, 0.6);
+  EXPECT_DOUBLE_EQ(g.innovation_gate, MclConfig{}.innovation_gate);
 }
 
 TEST(MclConfigYaml, LabConfigHasAnMclSection) {
   const PolylocConfig c = loadConfig(std::string(POLYLOC_SOURCE_DIR) + "/maps/config/lab.yaml");
   EXPECT_EQ(c.mcl.dof, 3);
   EXPECT_EQ(c.mcl.beams_per_scan, 60u);
+}
+
+// Issue 31, defect 6: numbers that passed --check and broke the run.
+TEST(MclConfigYaml, NumbersAreCheckedBeforeTheyAreNarrowed) {
+  // -1 wrapped to 2^64-1 and refused every refinement.
+  EXPECT_NE(error("mcl:\n  refine: {min_correspondences: -1}\n").find("refine.min_correspondences"), std::string::npos);
+  // 2^32 + 3 became 3 (or 6, or 1): valid-looking values from a wrapped integer.
+  EXPECT_NE(error("mcl:\n  dof: 4294967299\n").find("mcl.dof"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  threads: 4294967297\n").find("mcl.threads"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  refine: {iterations: 4294967306}\n").find("refine.iterations"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  refine: {dof: 4294967299}\n").find("refine.dof"), std::string::npos);
+  EXPECT_NE(error("mcl:\n  seed: -5\n").find("mcl.seed"), std::string::npos);
+  // Each in range, their product 36e9 pairs a round: the memory budget refuses it.
+  const std::string screen = error("mcl:\n  hypotheses: {screen: {positions: 1e7, headings: 3600}}\n");
+  EXPECT_NE(screen.find("positions x headings"), std::string::npos) << screen;
+  EXPECT_NE(screen.find("t.yaml:2:"), std::string::npos) << screen;
+  EXPECT_EQ(error("mcl:\n  hypotheses: {screen: {positions: 1e5, headings: 72}}\n"), "");
+  // A repeated key: the second value was silently dropped.
+  const std::string twice = error("mcl:\n  particles: 500\n  particles: 5000\n");
+  EXPECT_NE(twice.find("t.yaml:3:3: mcl.particles: repeated key (first at t.yaml:2:3)"), std::string::npos) << twice;
+  // In range: still accepted, and 1e3 reads as the integer it is.
+  ConfigMap m = ConfigMap::parse("mcl:\n  threads: 2\n  refine: {min_correspondences: 1e3, iterations: 20}\n", "t.yaml");
+  const MclConfig c = parseMclConfig(m.map("mcl"));
+  EXPECT_EQ(c.threads, 2);
+  EXPECT_EQ(c.refine.min_correspondences, 1000u);
+  EXPECT_EQ(c.refine.iterations, 20);
+}
+
+TEST(MclConfigYaml, GpuPlatformsAreCheckedWhenTheFileIs) {
+  ConfigMap m = ConfigMap::parse("mcl:\n  gpu_platforms: surfaceless,vulkan\n", "t.yaml");
+  try {
+    parseMclConfig(m.map("mcl"));
+    FAIL() << "an unknown EGL platform passed";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("t.yaml:2:18: mcl.gpu_platforms: unknown EGL platform 'vulkan'"), std::string::npos) << e.what();
+  }
+  ConfigMap ok = ConfigMap::parse("mcl:\n  gpu_platforms: device,default\n", "t.yaml");
+  EXPECT_EQ(parseMclConfig(ok.map("mcl")).gpu_platforms, "device,default");
 }

@@ -249,3 +249,73 @@ TEST(Polylocd, ClientsNoticeARestart) {
   EXPECT_EQ(again.generation(), first + 1);
   EXPECT_FALSE(again.stale());
 }
+
+// clock: source (docs/failure.md, "Time"): one odometry frame stamped 1e18 ns ahead became "now"
+// and every correct frame after it, on every channel, was refused as stale until a restart; stamps
+// 0 and -5 were taken. Now: the far-future frame and the non-times are refused and counted, the
+// good frames go on; a jump of every input (a recording restarted) moves the clock after a few
+// frames, forward and back, and poses come out again.
+TEST(Polylocd, NoSingleStampSetsTheSourceClock) {
+  ServiceConfig c = labConfig(uniqueInstance("clock"));
+  c.daemon.source_clock = true;
+  c.daemon.max_future_ns = 2'000'000'000;
+  c.daemon.max_age_ns = 500'000'000;
+  Running d(std::move(c));
+  shm::Segment seg = attachReady(d.daemon->config().daemon.instance);
+  const int odom = seg.find("odom"), scan = seg.find("scan/s300_front_left");
+  ASSERT_GE(odom, 0);
+  ASSERT_GE(scan, 0);
+  shm::Writer wo(seg, odom), ws(seg, scan);
+  const uint32_t beams = seg.channel(scan).count;
+  std::vector<uint8_t> frame(offsetof(polyloc_ranges, ranges) + 4 * beams);
+  int64_t t = 1'700'000'000'000'000'000;
+  uint64_t sent = 0;
+  double x = 1.3;  // the robot drives along x: each pair is a localiser update
+  auto odometry = [&](int64_t stamp) {
+    const polyloc_odometry o = odometryPayload(stamp, Pose::planar(x, 1.75, 0));
+    wo.write(&o, sizeof o, stamp);
+    ++sent;
+  };
+  auto good = [&](int n) {  // n pairs of odometry and a scan, 50 ms and 10 cm apart
+    for (int k = 0; k < n; ++k, t += 50'000'000, x += 0.1) {
+      odometry(t);
+      const polyloc_ranges rh{t + 1'000'000, beams, 0};
+      std::memcpy(frame.data(), &rh, sizeof rh);
+      for (uint32_t b = 0; b < beams; ++b) {
+        const float r = 1.5f;
+        std::memcpy(frame.data() + offsetof(polyloc_ranges, ranges) + 4 * b, &r, 4);
+      }
+      ws.write(frame.data(), uint32_t(frame.size()), rh.stamp_ns);
+      ++sent;
+    }
+  };
+  auto taken = [&](const polyloc_health& h) { return h.input[odom].taken + h.input[scan].taken; };
+  good(4);
+  polyloc_health h = settle(seg, sent);
+  ASSERT_EQ(taken(h), 8u);
+
+  odometry(t + 1'000'000'000'000'000'000);  // one corrupt stamp
+  odometry(0);
+  odometry(-5);
+  h = settle(seg, sent);
+  EXPECT_EQ(h.input[odom].rejected_future, 1u);
+  EXPECT_EQ(h.input[odom].rejected_stale, 2u);
+  good(4);
+  h = settle(seg, sent);
+  EXPECT_EQ(taken(h), 16u) << "good frames after one corrupt stamp were refused";
+
+  for (const int64_t jump : {int64_t(3600) * 1'000'000'000, int64_t(-7200) * 1'000'000'000}) {
+    t += jump;
+    const uint64_t before = taken(h), poses = h.poses;
+    good(6);
+    h = settle(seg, sent);
+    const uint64_t refused = 12 - (taken(h) - before);
+    EXPECT_GE(refused, 3u) << "a jump of " << jump << " ns was taken without agreement";
+    EXPECT_LE(refused, 10u) << "a jump of " << jump << " ns was never followed";
+    const uint64_t after = taken(h);
+    good(4);
+    h = settle(seg, sent);
+    EXPECT_EQ(taken(h), after + 8) << "frames after a jump of " << jump << " ns were refused";
+    EXPECT_GT(h.poses, poses) << "no pose after a jump of " << jump << " ns";
+  }
+}
