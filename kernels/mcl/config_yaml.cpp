@@ -100,7 +100,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
   c.range_bias_max = m.getDouble("range_bias_max", c.range_bias_max, 0, 10);
   c.beams_per_scan = count("beams_per_scan", c.beams_per_scan);
   c.effective_beams = m.getDouble("effective_beams", c.effective_beams, 0, 1e6);
-  c.subsample = m.getChoice("subsample", c.subsample, {"uniform"});
+  c.subsample = m.getChoice("subsample", c.subsample, {"uniform", "random"});
   c.update_min_distance = m.getDouble("update_min_distance", c.update_min_distance, 0, kBig);
   c.update_min_angle = m.getAngle("update_min_angle", c.update_min_angle);
   c.round_timeout = m.getDouble("round_timeout", c.round_timeout, 0, 1e3);

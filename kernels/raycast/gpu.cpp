@@ -222,7 +222,6 @@ void GpuCaster::setThreads(int threads) {
 int GpuCaster::threads() const { return impl_->threads; }
 const GpuInfo& GpuCaster::info() const { return impl_->gpu->info(); }
 bool GpuCaster::fellBack() const { return impl_->fallback != nullptr; }
-double GpuCaster::buildSeconds() const { return impl_->build_s; }
 
 size_t GpuCaster::memoryBytes() const {
   const Impl& m = *impl_;

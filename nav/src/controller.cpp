@@ -80,7 +80,7 @@ std::string Controller::where(const Eigen::Vector2d& p) const {
 }
 
 bool Controller::plan(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double t, std::string* why) {
-  blocked_.age(t, 30.0);
+  blocked_.age(t, wave_.config().blocked_max_age_s);  // the documented key, not a second literal
   WavefrontPlan p = wave_.plan(inflated_, blocked_, from, to);
   if (!p.reachable && p.why == "start in an obstacle") {
     // Standing closer to the map than the inflation (after a door, beside a table): plan from

@@ -1,8 +1,12 @@
 // The `mcl:` config section: defaults, values, and errors that name the key.
 #include <polyloc/configfile/polyloc_config.hpp>
+#include <polyloc/mcl/beam_model.hpp>
 #include <polyloc/mcl/config_yaml.hpp>
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
 
 using namespace polyloc;
 
@@ -116,4 +120,28 @@ TEST(MclConfigYaml, GpuPlatformsAreCheckedWhenTheFileIs) {
   }
   ConfigMap ok = ConfigMap::parse("mcl:\n  gpu_platforms: device,default\n", "t.yaml");
   EXPECT_EQ(parseMclConfig(ok.map("mcl")).gpu_platforms, "device,default");
+}
+
+// docs/localization.md documents `subsample: random`; the config refused it and the code behind
+// it was unreachable. It is a choice again: distinct valid beams, in beam order, fixed by seed
+// and stream (so any thread count draws the same).
+TEST(MclConfigYaml, RandomSubsampleIsReachableAndDeterministic) {
+  ConfigMap m = ConfigMap::parse("mcl:\n  subsample: random\n", "t.yaml");
+  EXPECT_EQ(parseMclConfig(m.map("mcl")).subsample, "random");
+  EXPECT_NE(error("mcl:\n  subsample: every_other\n").find("uniform, random"), std::string::npos);
+  BeamSet beams;
+  beams.range_min = 0.1f, beams.range_max = 10.f;
+  std::vector<float> ranges(200, 2.f);
+  for (size_t b = 0; b < ranges.size(); ++b) {
+    beams.dx.push_back(1.f), beams.dy.push_back(0.f), beams.dz.push_back(0.f);
+    if (b % 10 == 0) ranges[b] = std::nanf("");  // no return: never chosen
+  }
+  const auto a = BeamSensorModel::selectBeams(beams, ranges, 30, "random", 7, 3);
+  ASSERT_EQ(a.size(), 30u);
+  EXPECT_TRUE(std::is_sorted(a.begin(), a.end()));
+  EXPECT_EQ(std::adjacent_find(a.begin(), a.end()), a.end());
+  for (size_t b : a) EXPECT_NE(b % 10, 0u);
+  EXPECT_EQ(a, BeamSensorModel::selectBeams(beams, ranges, 30, "random", 7, 3));
+  EXPECT_NE(a, BeamSensorModel::selectBeams(beams, ranges, 30, "random", 7, 4));
+  EXPECT_NE(a, BeamSensorModel::selectBeams(beams, ranges, 30, "uniform", 7, 3));
 }

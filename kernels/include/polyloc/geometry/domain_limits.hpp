@@ -15,7 +15,5 @@ inline constexpr double kMapMargin = 10.0;             // m
 inline constexpr double kMaxAngle = 100.0;             // rad; any angle (yaw, roll, pitch, spreads)
 inline constexpr double kMaxPositionSigma = 1000.0;    // m; an initial spread
 inline constexpr double kMaxRange = 1e4;               // m; a range reading, a range limit
-// Stamps: 0 .. year 2200 in ns since the epoch (int64 holds until 2262).
-inline constexpr int64_t kMaxStampNs = int64_t(7'258'118'400) * 1'000'000'000;
 
 }  // namespace polyloc::domain

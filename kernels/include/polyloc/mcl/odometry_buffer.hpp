@@ -27,8 +27,6 @@ class OdometryBuffer {
   // odometry (it arrived first) gets the last motion extrapolated, for at most kExtrapolateNs.
   // Identity before any odometry.
   Pose at(int64_t t) const;
-  const Pose& last() const { return last_; }
-  bool has() const { return have_; }
 
  private:
   bool have_ = false;

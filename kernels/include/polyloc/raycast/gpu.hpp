@@ -56,7 +56,6 @@ class GpuCaster final : public RayCaster, public ScanScorer {
 
   const GpuInfo& info() const;
   bool fellBack() const;  // answering from Embree after a GPU error
-  double buildSeconds() const;  // BVH build and upload
 
  private:
   struct Impl;
