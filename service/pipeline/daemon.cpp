@@ -172,8 +172,7 @@ struct Daemon::Impl final : PipelineSink {
                  std::abs(double(static_cast<__int128>(to) - from)) * 1e-9, to > from ? "after" : "before", clock.jumps());
     for (auto& h : health) h.last_stamp_ns = 0;
     pass.clear();
-    const PipelineCounters& old = pipe->counters();  // health's counters never go back
-    earlier.poses += old.poses, earlier.vrs += old.vrs, earlier.tracks += old.tracks;
+    earlier = counters();  // health's counters never go back
     pipe = std::make_unique<Pipeline>(d.cfg_.polyloc, map, *caster, weigh.get());
   }
 
