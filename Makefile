@@ -21,7 +21,7 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
   libwebsocketpp-dev libasio-dev chromium
 
-.PHONY: run test deps configure build bench bench-carmen check-figures clean
+.PHONY: run test deps configure build bench bench-carmen check-figures sanitize clean
 
 # polylocd on the bundled lab, fed by a live simulation of the lab tour at real time (the
 # stand-in for a robot): status on the terminal (pose, error against ground truth, latency,
@@ -72,6 +72,29 @@ bench-carmen: build
 # '--with-slow' adds the polylocd soak and end-to-end latency (real time), '--list' shows them.
 check-figures: build
 	bench/check_figures.py $(BUILD_DIR) $(BUILD_DIR)/figures $(FIGURES_ARGS)
+
+# The suite built with -fsanitize=thread (build-tsan/), then with -fsanitize=address,undefined
+# (build-asan/), each run with every report an error. Not in `make test`: each is a build of its
+# own and runs 5-15x slower (an hour or more on 2 cores). SANITIZE_TESTS picks the ctest tests
+# (regex; default: the C++ suites and the daemon's, control's and live view's end-to-end tests:
+# the threaded code); SANITIZERS=thread runs one. Suppressions: tests/sanitize/.
+SANITIZERS     ?= thread address,undefined
+SANITIZE_TESTS ?= ^[A-Z]|^cli\.(polylocd|ctl|hostile_inputs|live_cli)$$
+sanitize: deps
+	@for s in $(SANITIZERS); do \
+	  d=$(BUILD_DIR)-$$(case $$s in thread) echo tsan;; *) echo asan;; esac); \
+	  [ -f $$d/build.ninja ] || cmake -S . -B $$d -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	    -DPOLYLOC_BUILD_BENCH=OFF -DPOLYLOC_BUILD_PYTHON=OFF -DPOLYLOC_MPI=OFF -DPOLYLOC_FUZZ=OFF \
+	    "-DCMAKE_CXX_FLAGS=-fsanitize=$$s -fno-omit-frame-pointer -fno-sanitize-recover=all" \
+	    "-DCMAKE_C_FLAGS=-fsanitize=$$s -fno-omit-frame-pointer" \
+	    "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=$$s" "-DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=$$s" || exit 1; \
+	  cmake --build $$d -j $(JOBS) || exit 1; \
+	  echo "sanitize: $$s"; \
+	  ( cd $$d && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$(CURDIR)/tests/sanitize/tsan.supp" \
+	    ASAN_OPTIONS="detect_leaks=1 abort_on_error=1" LSAN_OPTIONS="suppressions=$(CURDIR)/tests/sanitize/lsan.supp" \
+	    UBSAN_OPTIONS="print_stacktrace=1 halt_on_error=1" \
+	    ctest --output-on-failure -j $(JOBS) --timeout 1800 -R '$(SANITIZE_TESTS)' ) || exit 1; \
+	done
 
 clean:
 	rm -rf $(BUILD_DIR)

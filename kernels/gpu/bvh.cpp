@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -121,9 +122,12 @@ GpuBvh buildGpuBvh(const Mesh& mesh, int max_leaf_size) {
     all.upper_y = std::max(all.upper_y, hi.y()), all.upper_z = std::max(all.upper_z, hi.z());
   }
   if (prims.empty()) throw std::invalid_argument("gpu BVH: the map has no triangles with area");
-  RTCDevice device = rtcNewDevice(nullptr);
+  // Owned: released however this function leaves (a failed allocation while flattening too).
+  const std::unique_ptr<RTCDeviceTy, decltype(&rtcReleaseDevice)> owned_device(rtcNewDevice(nullptr), &rtcReleaseDevice);
+  RTCDevice device = owned_device.get();
   if (!device) throw std::runtime_error("gpu BVH: cannot create an Embree device");
-  RTCBVH bvh = rtcNewBVH(device);
+  const std::unique_ptr<RTCBVHTy, decltype(&rtcReleaseBVH)> owned_bvh(rtcNewBVH(device), &rtcReleaseBVH);
+  RTCBVH bvh = owned_bvh.get();
   RTCBuildArguments args = rtcDefaultBuildArguments();
   args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;  // binned SAH; spatial splits would duplicate triangles
   args.maxBranchingFactor = 2;
@@ -148,8 +152,6 @@ GpuBvh buildGpuBvh(const Mesh& mesh, int max_leaf_size) {
     root->leaf ? f.leafRoot(root, all) : void(f.inner(root, 1));
   }
   const RTCError err = rtcGetDeviceError(device);
-  rtcReleaseBVH(bvh);
-  rtcReleaseDevice(device);
   if (!root || err != RTC_ERROR_NONE)
     throw std::runtime_error("gpu BVH: Embree's builder failed (error " + std::to_string(int(err)) + ")");
   return out;

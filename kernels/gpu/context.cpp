@@ -10,6 +10,7 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace polyloc {
@@ -91,9 +92,26 @@ void releaseDisplay(EGLDisplay d) {
 struct GpuContext::Impl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
+  // What was current on the thread before makeCurrent(): release() puts it back.
+  struct Previous {
+    EGLDisplay display = EGL_NO_DISPLAY;
+    EGLContext context = EGL_NO_CONTEXT;
+    EGLSurface draw = EGL_NO_SURFACE, read = EGL_NO_SURFACE;
+  } previous;
+
+  void remember() {
+    const EGLContext c = eglGetCurrentContext();
+    if (c == context) return;  // already ours: keep what was before
+    previous = {eglGetCurrentDisplay(), c, eglGetCurrentSurface(EGL_DRAW), eglGetCurrentSurface(EGL_READ)};
+  }
+  bool restore() {
+    const Previous p = std::exchange(previous, {});
+    if (p.context != EGL_NO_CONTEXT && p.display != EGL_NO_DISPLAY) return eglMakeCurrent(p.display, p.draw, p.read, p.context);
+    return eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  }
   ~Impl() {
     if (display == EGL_NO_DISPLAY) return;
-    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (context != EGL_NO_CONTEXT && eglGetCurrentContext() == context) restore();  // a caller's context stays
     if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
     releaseDisplay(display);
   }
@@ -161,14 +179,16 @@ GpuContext::GpuContext(const GpuOptions& options) : impl_(std::make_unique<Impl>
 GpuContext::~GpuContext() = default;
 
 void GpuContext::makeCurrent() const {
+  impl_->remember();
   if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context))
     throw GpuError("gpu: cannot make the context current (" + eglErrorName(eglGetError()) + ")");
 }
 
 void GpuContext::release() const {
-  if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT))
-    throw GpuError("gpu: cannot release the context (" + eglErrorName(eglGetError()) + ")");
+  if (!impl_->restore()) throw GpuError("gpu: cannot release the context (" + eglErrorName(eglGetError()) + ")");
 }
+
+bool GpuContext::current() const { return impl_->context != EGL_NO_CONTEXT && eglGetCurrentContext() == impl_->context; }
 
 void GpuContext::check(const char* what) const {
   const GLenum e = glGetError();

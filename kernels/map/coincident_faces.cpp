@@ -6,13 +6,23 @@
 
 namespace polyloc {
 
+float coincidenceTolerance(const Mesh& mesh, float at_least) {
+  float scale = 0;
+  for (const Eigen::Vector3f& v : mesh.vertices)
+    if (v.allFinite()) scale = std::max(scale, v.cwiseAbs().maxCoeff());
+  // One float step: the two faces of anything thinner are not told apart at that scale anyway;
+  // more would merge a thin wall's two faces into a tie.
+  return std::max(at_least, std::nextafter(scale, INFINITY) - scale);
+}
+
 CoincidentFaces::CoincidentFaces(const Mesh& mesh, float tolerance) {
   const size_t n = mesh.triangles.size();
+  tol_ = tolerance = coincidenceTolerance(mesh, tolerance);
   // Planes by their normal up to sign (rounded to 1e-3) and offset: a face and the face against
   // it sort next to each other, told apart by `facing`.
   struct Face {
     uint64_t normal;  // the rounded normal's three components, 21 bits each
-    float offset;     // along the rounded normal's direction
+    double offset;    // along the rounded normal's direction (double: no rounding of its own)
     int facing;       // +1 / -1 along it
     uint32_t tri;
   };
@@ -27,7 +37,7 @@ CoincidentFaces::CoincidentFaces(const Mesh& mesh, float tolerance) {
     const Eigen::Vector3f c = float(sign) * nrm;
     uint64_t key = 0;
     for (int k = 0; k < 3; ++k) key = key << 21 | uint64_t(std::lround(c[k] * 1e3f) + 1000);  // 0..2000
-    faces.push_back({key, c.dot(mesh.vertices[mesh.triangles[t][0]]), sign, uint32_t(t)});
+    faces.push_back({key, c.cast<double>().dot(mesh.vertices[mesh.triangles[t][0]].cast<double>()), sign, uint32_t(t)});
   }
   std::sort(faces.begin(), faces.end(),
             [](const Face& a, const Face& b) { return std::pair(a.normal, a.offset) < std::pair(b.normal, b.offset); });
@@ -62,7 +72,7 @@ CoincidentFaces::CoincidentFaces(const Mesh& mesh, float tolerance) {
   }
   if (parts_.empty()) return;
   // Cells of at least 0.5 m, at most about 100,000 of them (built with the scene: keep it cheap).
-  const float kMargin = 1e-4f;
+  const float kMargin = std::max(1e-4f, 2 * tol_);  // covers()' default margin, grown as it is
   bounds_.min().array() -= 2 * kMargin, bounds_.max().array() += 2 * kMargin;
   const Eigen::Vector3f size = bounds_.sizes();
   cell_ = std::max(0.5f, std::cbrt(size.prod() / 1e5f));
@@ -85,6 +95,7 @@ CoincidentFaces::CoincidentFaces(const Mesh& mesh, float tolerance) {
 }
 
 bool CoincidentFaces::covers(uint32_t tri, const Eigen::Vector3f& p, float margin) const {
+  margin = std::max(margin, 2 * tol_);  // a hit point computed there is a step or two off
   if (!has(tri) || !bounds_.contains(p)) return false;
   const Eigen::Vector3i c = ((p - bounds_.min()) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1);
   const size_t cell = size_t((c.z() * dims_.y() + c.y()) * dims_.x() + c.x());

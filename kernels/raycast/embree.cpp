@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -66,14 +67,18 @@ unsigned primOf(const Hit& hit, int k) {
 // (map/coincident_faces.hpp: a floor under the furniture, not the whole floor) are cast again
 // with it: a filter on every ray cost 13-20% of the packets' and the localiser's speed, and
 // casting again every hit on a partly covered triangle cost the localiser a third (tilted
-// scanners see the floor all the time). The filter runs on single rays only (recast).
+// scanners see the floor all the time). The filter runs on single rays only (recast). Distances
+// within `tol` are one distance (CoincidentFaces::tolerance(): far from the origin the two
+// faces' distances differ by float steps); the filter refuses every candidate and keeps the
+// best itself, so that a preferred face a step farther than the first one met still wins.
 struct TieContext {
   RTCIntersectContext ctx;  // first member: Embree passes &ctx to the filter
   const float *nx, *ny, *nz;
+  float tol = 0;
   float t = kInf;  // the kept hit
-  unsigned prim = 0;
+  unsigned prim = RTC_INVALID_GEOMETRY_ID;
 
-  TieContext(const float* x, const float* y, const float* z) : nx(x), ny(y), nz(z) {
+  TieContext(const float* x, const float* y, const float* z, float tolerance) : nx(x), ny(y), nz(z), tol(tolerance) {
     rtcInitIntersectContext(&ctx);
     ctx.filter = tieFilter;
   }
@@ -81,16 +86,19 @@ struct TieContext {
     return nx[p] * RTCRayN_dir_x(ray, 1, 0) + ny[p] * RTCRayN_dir_y(ray, 1, 0) + nz[p] * RTCRayN_dir_z(ray, 1, 0) > 0.f;
   }
 
-  // Called for every candidate hit, so the usual case (nearer than the kept one) only records it;
-  // facing is looked at on ties alone.
+  // Called for every candidate hit: a nearer one (beyond the tolerance) replaces the kept one;
+  // facing is looked at on ties alone. Every candidate is refused, so Embree offers them all.
   static void tieFilter(const RTCFilterFunctionNArguments* args) {
     auto* c = reinterpret_cast<TieContext*>(args->context);
     if (args->valid[0] != -1) return;
     const float t = RTCRayN_tfar(args->ray, 1, 0);  // the candidate's distance
     const unsigned prim = RTCHitN_primID(args->hit, 1, 0);
-    if (t == c->t) {
+    args->valid[0] = 0;
+    if (c->prim != RTC_INVALID_GEOMETRY_ID && std::abs(t - c->t) <= c->tol) {
       const bool back = c->back(prim, args->ray), kept_back = c->back(c->prim, args->ray);
-      if (back != kept_back ? !back : prim > c->prim) return void(args->valid[0] = 0);
+      if (back != kept_back ? !back : prim > c->prim) return;
+    } else if (t > c->t) {
+      return;
     }
     c->t = t, c->prim = prim;
   }
@@ -98,9 +106,14 @@ struct TieContext {
 
 }  // namespace
 
+// Owns the device and scene: released here, so also when the constructor throws half-way.
 struct EmbreeCaster::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
   Mesh mesh;  // copy: labels, normals and vertices for results and clearance queries
   std::vector<float> nx, ny, nz;
   CastArena pool;
@@ -117,13 +130,14 @@ struct EmbreeCaster::Impl {
   // triangle replace `tfar` and `prim`.
   void recast(float ox, float oy, float oz, float dx, float dy, float dz, float t0, float t1, float& tfar,
               unsigned& prim) const {
-    TieContext tie(nx.data(), ny.data(), nz.data());
+    TieContext tie(nx.data(), ny.data(), nz.data(), coincident.tolerance());
     RTCRayHit rh;
-    rh.ray = {ox, oy, oz, t0, dx, dy, dz, 0.f, t1, 0xFFFFFFFFu, 0, 0};
+    // Up to just beyond the first pass's hit: the faces tied with it, nothing farther.
+    rh.ray = {ox, oy, oz, t0, dx, dy, dz, 0.f, std::min(t1, tfar + 2 * tie.tol), 0xFFFFFFFFu, 0, 0};
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene, &tie.ctx, &rh);
-    tfar = rh.ray.tfar;
-    prim = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? RTC_INVALID_GEOMETRY_ID : rh.hit.primID;
+    if (tie.prim == RTC_INVALID_GEOMETRY_ID) return;  // cannot be (the first pass hit): keep its answer
+    tfar = tie.t, prim = tie.prim;
   }
 
   // Writes one ray's result; `dir` is the unit direction, `t0`/`t1` the window.
@@ -167,7 +181,9 @@ EmbreeCaster::EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options) : imp
                                           RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));  // tieFilter
   rtcSetSceneBuildQuality(m.scene, options.high_quality_bvh ? RTC_BUILD_QUALITY_HIGH
                                                             : RTC_BUILD_QUALITY_MEDIUM);
-  RTCGeometry geom = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const std::unique_ptr<RTCGeometryTy, decltype(&rtcReleaseGeometry)> owned(rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE),
+                                                                           &rtcReleaseGeometry);
+  RTCGeometry geom = owned.get();
   // Embree-owned buffers are padded as its SIMD loads require.
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
                                                         RTC_FORMAT_FLOAT3, 3 * sizeof(float),
@@ -197,7 +213,6 @@ EmbreeCaster::EmbreeCaster(const Mesh& mesh, const EmbreeOptions& options) : imp
   rtcSetGeometryPointQueryFunction(geom, clearanceCallback);
   rtcCommitGeometry(geom);
   rtcAttachGeometry(m.scene, geom);
-  rtcReleaseGeometry(geom);
   rtcCommitScene(m.scene);
   if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE)
     throw std::runtime_error("Embree: scene build failed for " + mesh.source);
@@ -211,10 +226,7 @@ size_t EmbreeCaster::memoryBytes() const {
   return size_t(std::max<int64_t>(0, impl_->device_bytes.load(std::memory_order_relaxed))) + kept;
 }
 
-EmbreeCaster::~EmbreeCaster() {
-  if (impl_->scene) rtcReleaseScene(impl_->scene);
-  if (impl_->device) rtcReleaseDevice(impl_->device);
-}
+EmbreeCaster::~EmbreeCaster() = default;
 
 void EmbreeCaster::setThreads(int threads) { impl_->pool.resize(threads); }
 

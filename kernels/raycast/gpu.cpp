@@ -1,6 +1,7 @@
 #include <polyloc/gpu/bvh.hpp>
 #include <polyloc/raycast/gpu.hpp>
 #include <polyloc/gpu/compute.hpp>
+#include <polyloc/map/coincident_faces.hpp>
 #include <polyloc/raycast/embree.hpp>
 
 #include "gpu_shaders.hpp"  // generated from gpu/shaders/*.glsl (kernels/CMakeLists.txt)
@@ -8,7 +9,6 @@
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -42,12 +42,12 @@ struct GpuCaster::Impl {
   GpuCasterOptions opt;
   Mesh mesh;  // labels and normals of results; the fallback's map
   std::vector<float> nx, ny, nz;
+  float tie_tol = 0;  // distances this close are one (ties decided as Embree decides them)
   GpuBvh bvh;
   std::unique_ptr<GpuContext> gpu;
   std::unique_ptr<ComputeProgram> scans, rays, free, score;
   // The map (uploaded once) and the batch buffers (grown to the largest batch seen).
   std::unique_ptr<StorageBuffer> nodes, verts, ids, in0, in1, hits, terms, tables, sums;
-  double build_s = 0;
   int threads = 0;
   int batches = 0;
   std::unique_ptr<EmbreeCaster> fallback;
@@ -55,6 +55,7 @@ struct GpuCaster::Impl {
   // Host-side staging, reused between calls (calls are serialised by mu): no allocation per
   // batch once sizes settle, as the RayCaster contract asks.
   std::vector<float> stage0, stage1;
+  std::vector<float> terms_host, tables_host, sums_host;  // scoreScans' staging
   std::vector<uint32_t> readback;
   std::vector<uint8_t> bad;
 
@@ -77,6 +78,7 @@ struct GpuCaster::Impl {
     p.set("count", uint32_t(count));
     p.set("backface_is_solid", uint32_t(o.backface_is_solid));
     p.set("miss_is_max_range", uint32_t(o.miss_is_max_range));
+    p.set("tie_tol", tie_tol);
     nodes->bind(0), verts->bind(1), ids->bind(2), in0->bind(3), in1->bind(4), hits->bind(5);
   }
 
@@ -176,10 +178,10 @@ struct GpuCaster::Impl {
 
 GpuCaster::GpuCaster(const Mesh& mesh, const GpuCasterOptions& options) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
-  const auto t0 = std::chrono::steady_clock::now();
   m.opt = options;
   m.threads = options.threads;
   m.bvh = buildGpuBvh(mesh, options.max_leaf_size);
+  m.tie_tol = coincidenceTolerance(mesh);
   m.mesh = mesh;
   const size_t nt = mesh.triangles.size();
   m.nx.resize(nt), m.ny.resize(nt), m.nz.resize(nt);
@@ -199,7 +201,6 @@ GpuCaster::GpuCaster(const Mesh& mesh, const GpuCasterOptions& options) : impl_(
   m.ensure(m.ids, m.bvh.triangle.size() * sizeof(uint32_t));
   m.ids->upload(m.bvh.triangle.data(), m.bvh.triangle.size() * sizeof(uint32_t));
   m.gpu->release();
-  m.build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 GpuCaster::~GpuCaster() {
@@ -214,14 +215,22 @@ GpuCaster::~GpuCaster() {
     b->reset();
 }
 
+// Under the batches' lock: a batch on another thread may be creating the fallback right now.
 void GpuCaster::setThreads(int threads) {
+  std::lock_guard<std::mutex> lock(impl_->mu);
   impl_->threads = threads;
   if (impl_->fallback) impl_->fallback->setThreads(threads);
 }
 
-int GpuCaster::threads() const { return impl_->threads; }
+int GpuCaster::threads() const {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  return impl_->threads;
+}
 const GpuInfo& GpuCaster::info() const { return impl_->gpu->info(); }
-bool GpuCaster::fellBack() const { return impl_->fallback != nullptr; }
+bool GpuCaster::fellBack() const {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  return impl_->fallback != nullptr;
+}
 
 size_t GpuCaster::memoryBytes() const {
   const Impl& m = *impl_;
@@ -343,7 +352,8 @@ void GpuCaster::scoreScans(std::span<const Pose> poses, const BeamSet& beams, co
   m.run(
       [&] {
         m.uploadBeams(beams, window);
-        std::vector<float> terms(8 * nb, 0.f);
+        std::vector<float>& terms = m.terms_host;
+        terms.assign(8 * nb, 0.f);
         for (size_t i = 0; i < nb; ++i) {
           float* t = &terms[8 * i];
           t[0] = s.measured[i], t[1] = s.miss[i], t[2] = s.short_dens[i], t[3] = s.hit_scale[i];
@@ -351,7 +361,8 @@ void GpuCaster::scoreScans(std::span<const Pose> poses, const BeamSet& beams, co
         }
         m.ensure(m.terms, terms.size() * sizeof(float));
         m.terms->upload(terms.data(), terms.size() * sizeof(float));
-        std::vector<float> tables(2 * std::max<size_t>(s.table_size, 1), 0.f);
+        std::vector<float>& tables = m.tables_host;
+        tables.assign(2 * std::max<size_t>(s.table_size, 1), 0.f);
         if (s.table_size > 0) {
           std::copy(s.hit_table, s.hit_table + s.table_size, tables.begin());
           std::copy(s.log_table, s.log_table + s.table_size, tables.begin() + long(s.table_size));
@@ -360,7 +371,7 @@ void GpuCaster::scoreScans(std::span<const Pose> poses, const BeamSet& beams, co
         m.tables->upload(tables.data(), tables.size() * sizeof(float));
         const size_t chunk = std::max<size_t>(1, m.opt.batch_rays / nb);
         const std::vector<uint8_t>& bad = m.bad;
-        std::vector<float> f;
+        std::vector<float>& f = m.sums_host;
         for (size_t p0 = 0; p0 < poses.size(); p0 += chunk) {
           const size_t p1 = std::min(poses.size(), p0 + chunk), np = p1 - p0;
           m.castChunk(poses, p0, p1, nb, opt);

@@ -2,7 +2,7 @@
 // futex), a UNIX domain socket and loopback TCP, in the same run (docs/interface.md, "Latency").
 #include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
-#include "cli/ipc_latency.hpp"
+#include "engines/ipc_latency.hpp"
 
 #include "shm/channel.hpp"
 
@@ -17,6 +17,12 @@
 #include <map>
 
 namespace polyloc::cli {
+
+using engines::IpcLatencyConfig;
+using engines::IpcSamples;
+using engines::shmLatency;
+using engines::tcpLatency;
+using engines::udsLatency;
 namespace {
 
 struct BenchIpcArgs {

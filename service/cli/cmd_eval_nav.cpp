@@ -5,14 +5,14 @@
 // all: reached, collisions (with what and where), smallest clearance, danger-zone entries, door
 // passages and oscillations, goal error, time against the wavefront-optimal path. --vrs off runs
 // the same missions with a VRS made of the level scanners only: what a 2D controller sees.
-#include "cli/child_process.hpp"
+#include "engines/child_process.hpp"
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
-#include "cli/drive_loop.hpp"
-#include "cli/nav_missions.hpp"
+#include "engines/drive_loop.hpp"
+#include "engines/drive_report.hpp"
+#include "engines/nav_missions.hpp"
 #include "cli/output_check.hpp"
 #include "cli/parse_number.hpp"
-#include "cli/play_drive.hpp"
 #include "viz/topview.hpp"
 
 #include <polyloc/map/height_band.hpp>
@@ -34,6 +34,14 @@
 #include <random>
 
 namespace polyloc::cli {
+
+using engines::ChildProcess;
+using engines::DriveLoop;
+using engines::DriveLoopOptions;
+using engines::MissionTracker;
+using engines::MissionResult;
+using engines::executableDir;
+using engines::driveJson;
 namespace {
 
 namespace fs = std::filesystem;
@@ -86,6 +94,7 @@ std::string writeDaemonConfig(const Scenario& s, const std::string& instance, bo
   y["polylocd"]["instance"] = instance;
   y["polylocd"]["clock"] = "source";
   y["polylocd"]["control"]["enabled"] = false;
+  y["polylocd"]["live"]["port"] = 0;  // an internal daemon: the user's live port (8765) stays theirs
   if (vrs_on && !s.navigation.vrs_sources.empty()) {
     YAML::Node sources(YAML::NodeType::Sequence);
     for (const auto& [sensor, mode] : s.navigation.vrs_sources) {
@@ -212,6 +221,7 @@ void run(const Args& a) {
   // without changing the run.
   o.wait_vrs_s = 30, o.wait_command_s = 30, o.wait_attach_s = 60;
   DriveLoop loop(sim, instance, o);
+  loop.controller_alive = [&] { return nav.running(); };
   if (!loop.waitForController(60, [&] { return nav.running() && daemon.running(); }))
     throw std::runtime_error(fmt::format("polynav did not start listening on '{}' (its log: {})", instance,
                                          (dir / "polynav.log").string()));
@@ -236,9 +246,18 @@ void run(const Args& a) {
       tracker.abort(loop.nowS(), "evaluation time limit");
       break;
     }
-    if (!nav.running() || !daemon.running()) {
-      tracker.abort(loop.nowS(), !daemon.running() ? "polylocd ended" : "polynav ended");
+    if (!daemon.running()) {
+      tracker.abort(loop.nowS(), "polylocd ended");
       break;
+    }
+    if (!nav.running()) {
+      // polynav ends after its last goal (--exit-when-done), its stop written: the base brakes
+      // and the last mission is scored where it comes to rest (or ends failed if it was open).
+      if (!tracker.settling()) {
+        tracker.abort(loop.nowS(), "polynav ended");
+        break;
+      }
+      loop.controllerGone();
     }
     loop.step();
     const DriveSim& d = loop.drive();
@@ -256,7 +275,7 @@ void run(const Args& a) {
         }
       path.emplace_back(float(truth.x()), float(truth.y()));
     }
-    tracker.onStep(truth, d.base().velocity().vx, clearance);
+    tracker.onStep(truth, d.base().velocity().vx, d.base().velocity().wz, clearance);
     if (!a.quiet && std::chrono::steady_clock::now() - last_print > std::chrono::milliseconds(tty ? 250 : 5000)) {
       last_print = std::chrono::steady_clock::now();
       fmt::print(stderr, "{}eval nav: mission {}/{}  {:.0f} s  collisions {}  {}{}", tty ? "\r" : "",
@@ -265,7 +284,12 @@ void run(const Args& a) {
     }
   }
   if (!a.quiet && tty) fmt::print(stderr, "\n");
+  // polynav reports the last goal reached for its hold time, then ends with a stop command: run
+  // on until it has (30 s of simulated time at most), and read the stop, so that the loop's
+  // counters say whether it was taken.
+  for (const double until = loop.nowS() + 30; nav.running() && daemon.running() && loop.nowS() < until;) loop.step();
   nav.wait(5.0);
+  loop.readCommands();
   nav.stop();
   daemon.stop();
   ::shm_unlink(("/polyloc." + instance).c_str());  // polylocd leaves its segment for a restart; this one is done

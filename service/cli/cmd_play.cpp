@@ -8,7 +8,7 @@
 #include "cli/output_check.hpp"
 #include "cli/commands.hpp"
 #include "reloc/report.hpp"
-#include "cli/play_feed.hpp"
+#include "engines/play_feed.hpp"
 #include "cli/play_source.hpp"
 #include "cli/play_drive.hpp"
 #include "cli/live_option.hpp"
@@ -28,6 +28,9 @@
 #include <thread>
 
 namespace polyloc::cli {
+
+using engines::PlayFeed;
+using engines::PlayResult;
 namespace {
 
 using Clock = std::chrono::steady_clock;

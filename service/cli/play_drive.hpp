@@ -1,15 +1,9 @@
-// `polyloc play --drive` (play_drive.cpp) and the JSON of a closed-loop run, shared with eval nav.
+// `polyloc play --drive` (play_drive.cpp): the scenario's robot driven by a controller's commands.
 #pragma once
-
-#include <polyloc/sim/drive.hpp>
-
-#include <nlohmann/json.hpp>
 
 #include <string>
 
 namespace polyloc::cli {
-
-class DriveLoop;
 
 struct PlayDriveArgs {
   std::string scenario, shm;
@@ -18,7 +12,5 @@ struct PlayDriveArgs {
 };
 
 void runPlayDrive(const PlayDriveArgs& a);
-nlohmann::json collisionJson(const CollisionEvent& c);
-nlohmann::json driveJson(const DriveLoop& loop);
 
 }  // namespace polyloc::cli

@@ -6,6 +6,7 @@
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
 
+#include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -13,6 +14,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -35,6 +37,9 @@ struct Client {
   Hdl hdl;
   std::string name;                         // address:port, for the log
   std::map<uint32_t, uint32_t> subs;        // subscription id -> channel id
+  std::map<uint32_t, uint32_t> owed;        // subscription id -> latched channel not yet sent (queue was full)
+  double tokens = 0;                        // client messages it may still send now (rate limit)
+  Clock::time_point refilled{};
   Clock::time_point over_since{};           // queue over the limit since (epoch: not over)
   int bad = 0;
   bool closing = false;                     // disconnected as too slow: nothing more goes to it
@@ -49,9 +54,12 @@ struct FoxgloveServer::Impl {
   WsServer ws;
   std::thread thread;
   std::map<Hdl, Client, std::owner_less<Hdl>> clients;
+  std::vector<Hdl> pending_conns;  // accepted, handshake not done: bounded by max_pending
+  std::unique_ptr<asio::steady_timer> accept_pause;  // after a failed accept: retry later, never spin
   std::map<uint32_t, std::pair<uint64_t, std::shared_ptr<const std::vector<uint8_t>>>> latched;
   uint16_t bound_port = 0;
-  bool running = false;
+  std::atomic<bool> running{false};  // read by publishers' threads
+  bool warned_pending = false, warned_accept = false;  // one warning per episode, not per connection
   // Messages handed over and not yet fanned out: bounded, so that a server thread starved of CPU
   // cannot make the publisher's memory grow; beyond it messages are dropped (counted).
   std::atomic<int> pending{0};
@@ -91,11 +99,16 @@ struct FoxgloveServer::Impl {
   }
 
   // Sends one message frame to a client's subscription; false when the client's queue is full.
-  bool sendTo(Client& c, uint32_t sub, uint64_t stamp, const std::vector<uint8_t>& payload, bool force) {
+  // Latched messages too: a forced send would let one client queue the map without bound.
+  bool sendTo(Client& c, uint32_t sub, uint64_t stamp, const std::vector<uint8_t>& payload) {
     if (c.closing) return false;
-    WsServer::connection_ptr con = ws.get_con_from_hdl(c.hdl);
+    websocketpp::lib::error_code hec;
+    WsServer::connection_ptr con = ws.get_con_from_hdl(c.hdl, hec);
+    if (hec) return false;
     const auto now = Clock::now();
-    if (!force && con->get_buffered_amount() + payload.size() > cfg.max_queue_bytes) {
+    // An empty queue takes any one message (a map bigger than the limit still goes, alone).
+    const size_t queued = con->get_buffered_amount();
+    if (queued > 0 && queued + payload.size() > cfg.max_queue_bytes) {
       count([](ServerStats& s) { ++s.messages_dropped; });
       if (c.over_since == Clock::time_point{}) c.over_since = now;
       if (now - c.over_since > std::chrono::duration<double>(cfg.stall_timeout_s)) {
@@ -127,17 +140,52 @@ struct FoxgloveServer::Impl {
 
   void fanOut(uint32_t channel, uint64_t stamp, const std::shared_ptr<const std::vector<uint8_t>>& payload) {
     if (channels[channel - 1].latched) latched[channel] = {stamp, payload};
-    for (auto& [hdl, c] : clients)
+    for (auto& [hdl, c] : clients) {
+      payOwed(c);
       for (const auto& [sub, ch] : c.subs)
-        if (ch == channel) sendTo(c, sub, stamp, *payload, false);
+        if (ch == channel) {
+          if (sendTo(c, sub, stamp, *payload)) c.owed.erase(sub);  // the newer message replaces the owed one
+        }
+    }
+  }
+
+  // A latched message that found the client's queue full is sent when there is room again.
+  void payOwed(Client& c) {
+    for (auto it = c.owed.begin(); it != c.owed.end();) {
+      const auto l = latched.find(it->second);
+      if (l == latched.end() || sendTo(c, it->first, l->second.first, *l->second.second)) it = c.owed.erase(it);
+      else break;  // still full: the rest wait too
+    }
+  }
+
+  void sendLatched(Client& c, uint32_t sub, uint32_t ch) {
+    const auto l = latched.find(ch);
+    if (l == latched.end()) return;
+    if (!sendTo(c, sub, l->second.first, *l->second.second)) c.owed[sub] = ch;
+  }
+
+  // Token bucket: bursts of max_client_rate messages, max_client_rate per second after that.
+  bool withinRate(Client& c) {
+    const auto now = Clock::now();
+    const double burst = std::max(1.0, cfg.max_client_rate);
+    if (c.refilled == Clock::time_point{}) c.tokens = burst;
+    else c.tokens = std::min(burst, c.tokens + std::chrono::duration<double>(now - c.refilled).count() * cfg.max_client_rate);
+    c.refilled = now;
+    if (c.tokens < 1) return false;
+    c.tokens -= 1;
+    return true;
+  }
+
+  // Ids are uint32 on the wire (message frames carry 4 bytes): a larger one is refused, not wrapped.
+  static bool isId(const json& v) {
+    return v.is_number_unsigned() && v.get<uint64_t>() <= std::numeric_limits<uint32_t>::max();
   }
 
   void subscribe(Client& c, const json& list) {
     if (!list.is_array()) return bad(c, "subscribe: 'subscriptions' must be an array");
     for (const json& s : list) {
-      if (!s.is_object() || !s.contains("id") || !s.contains("channelId") || !s["id"].is_number_unsigned() ||
-          !s["channelId"].is_number_unsigned())
-        return bad(c, "subscribe: each subscription needs unsigned 'id' and 'channelId'");
+      if (!s.is_object() || !s.contains("id") || !s.contains("channelId") || !isId(s["id"]) || !isId(s["channelId"]))
+        return bad(c, "subscribe: each subscription needs 'id' and 'channelId', integers in 0..4294967295");
       const uint32_t sub = s["id"].get<uint32_t>(), ch = s["channelId"].get<uint32_t>();
       if (ch == 0 || ch > channels.size()) {
         bad(c, "subscribe: no channel " + std::to_string(ch));
@@ -147,22 +195,28 @@ struct FoxgloveServer::Impl {
         bad(c, "subscribe: subscription id " + std::to_string(sub) + " is in use");
         continue;
       }
+      if (int(c.subs.size()) >= cfg.max_subscriptions)  // the rest of the list too: one answer
+        return bad(c, "subscribe: at most " + std::to_string(cfg.max_subscriptions) + " subscriptions per client");
+      // The latched message once per client and channel: a second id on the channel gets what
+      // comes next, not another copy of the map.
+      const bool had = std::any_of(c.subs.begin(), c.subs.end(), [ch](const auto& e) { return e.second == ch; });
       c.subs[sub] = ch;
       ++subscribers[ch - 1];
-      if (auto it = latched.find(ch); it != latched.end()) sendTo(c, sub, it->second.first, *it->second.second, true);
+      if (!had) sendLatched(c, sub, ch);
     }
   }
 
   void unsubscribe(Client& c, const json& list) {
     if (!list.is_array()) return bad(c, "unsubscribe: 'subscriptionIds' must be an array");
     for (const json& s : list) {
-      if (!s.is_number_unsigned()) return bad(c, "unsubscribe: subscription ids are unsigned integers");
+      if (!isId(s)) return bad(c, "unsubscribe: subscription ids are integers in 0..4294967295");
       auto it = c.subs.find(s.get<uint32_t>());
       if (it == c.subs.end()) {
         bad(c, "unsubscribe: no subscription " + std::to_string(s.get<uint32_t>()));
         continue;
       }
       --subscribers[it->second - 1];
+      c.owed.erase(it->first);
       c.subs.erase(it);
     }
   }
@@ -171,6 +225,10 @@ struct FoxgloveServer::Impl {
     auto it = clients.find(h);
     if (it == clients.end()) return;
     Client& c = it->second;
+    if (!withinRate(c)) {
+      count([](ServerStats& s) { ++s.rate_limited; });
+      return bad(c, "too many messages: at most " + fmt::format("{:g}", cfg.max_client_rate) + " per second (polylocd.live.max_client_rate)");
+    }
     if (m->get_opcode() != websocketpp::frame::opcode::text)
       return bad(c, "binary client messages (client publishing) are not supported by this server");
     const json j = json::parse(m->get_payload(), nullptr, false);
@@ -183,7 +241,69 @@ struct FoxgloveServer::Impl {
     bad(c, "unsupported operation '" + name + "' (this server offers subscribe and unsubscribe)");
   }
 
+  // Connections still in their handshake, counted now (closed ones drop out as asio frees them).
+  size_t pendingNow() {
+    pending_conns.erase(std::remove_if(pending_conns.begin(), pending_conns.end(), [this](const Hdl& h) {
+      websocketpp::lib::error_code ec;
+      const WsServer::connection_ptr con = ws.get_con_from_hdl(h, ec);
+      return ec || con->get_state() != websocketpp::session::state::connecting || clients.count(h);
+    }), pending_conns.end());
+    return pending_conns.size();
+  }
+
+  void forget(Hdl h) {
+    pending_conns.erase(std::remove_if(pending_conns.begin(), pending_conns.end(),
+                                       [&h](const Hdl& p) { return !p.owner_before(h) && !h.owner_before(p); }),
+                        pending_conns.end());
+  }
+
+  // Our own accept loop (websocketpp's re-accepts at once after an error: with no file
+  // descriptor left that spins a core). Every accepted connection counts against max_pending
+  // until its handshake is done; over it, the connection is closed before reading a byte.
+  void acceptNext() {
+    websocketpp::lib::error_code ec;
+    WsServer::connection_ptr con = ws.get_connection();
+    if (!con) return pauseAccept("cannot create a connection");
+    ws.async_accept(websocketpp::lib::static_pointer_cast<WsServer::transport_con_type>(con),
+                    [this, con](const websocketpp::lib::error_code& e) { onAccept(con, e); }, ec);
+    if (ec) {
+      con->terminate(websocketpp::lib::error_code());
+      if (running) pauseAccept(ec.message());
+    }
+  }
+
+  void onAccept(WsServer::connection_ptr con, const websocketpp::lib::error_code& ec) {
+    if (ec) {
+      con->terminate(ec);
+      if (ec == websocketpp::error::operation_canceled || !running) return;  // stop_listening
+      return pauseAccept(ec.message());
+    }
+    if (pendingNow() >= size_t(cfg.max_pending)) {
+      count([](ServerStats& s) { ++s.refused_pending; });
+      if (!warned_pending) spdlog::warn("live view: {} connections in their handshake (polylocd.live.max_pending): closing new ones at once", cfg.max_pending);
+      warned_pending = true;
+      con->terminate(websocketpp::lib::error_code());
+    } else {
+      warned_pending = false;
+      pending_conns.push_back(con->get_handle());
+      con->start();
+    }
+    acceptNext();
+  }
+
+  void pauseAccept(const std::string& why) {
+    count([](ServerStats& s) { ++s.accept_errors; });
+    if (!warned_accept) spdlog::warn("live view: accept failed: {}; retrying every 0.2 s", why);
+    warned_accept = true;
+    accept_pause->expires_after(std::chrono::milliseconds(200));
+    accept_pause->async_wait([this](const asio::error_code& e) {
+      if (!e && running) acceptNext();
+    });
+  }
+
   bool validate(Hdl h) {
+    forget(h);
+    warned_accept = false;
     WsServer::connection_ptr con = ws.get_con_from_hdl(h);
     const auto& asked = con->get_requested_subprotocols();
     const bool ours = std::find(asked.begin(), asked.end(), kSubprotocol) != asked.end();
@@ -214,6 +334,7 @@ struct FoxgloveServer::Impl {
   }
 
   void onClose(Hdl h) {
+    forget(h);
     auto it = clients.find(h);
     if (it == clients.end()) return;
     for (const auto& [sub, ch] : it->second.subs) --subscribers[ch - 1];
@@ -223,6 +344,7 @@ struct FoxgloveServer::Impl {
   }
 
   void onHttp(Hdl h) {
+    forget(h);
     WsServer::connection_ptr con = ws.get_con_from_hdl(h);
     count([](ServerStats& s) { ++s.http_requests; });
     con->append_header("Connection", "close");  // websocketpp answers one request per connection
@@ -259,7 +381,7 @@ void FoxgloveServer::start() {
   m.ws.set_reuse_addr(true);
   m.ws.set_max_message_size(m.cfg.max_client_message);
   m.ws.set_max_http_body_size(m.cfg.max_client_message);
-  m.ws.set_open_handshake_timeout(5000);
+  m.ws.set_open_handshake_timeout(long(m.cfg.handshake_timeout_s * 1000));
   m.ws.set_close_handshake_timeout(1000);
   m.ws.set_validate_handler([&m](Hdl h) { return m.validate(h); });
   m.ws.set_open_handler([&m](Hdl h) { m.onOpen(h); });
@@ -274,10 +396,13 @@ void FoxgloveServer::start() {
   m.ws.listen(asio::ip::tcp::endpoint(addr, m.cfg.port), wec);
   if (wec)
     throw std::runtime_error("live view: cannot listen on " + m.cfg.address + ":" + std::to_string(m.cfg.port) + ": " + wec.message());
-  m.ws.start_accept(wec);
-  if (wec) throw std::runtime_error("live view: cannot accept: " + wec.message());
   m.bound_port = m.ws.get_local_endpoint(ec).port();
+  if (!addr.is_loopback())  // the protocol has no authentication: whoever reaches the port sees map and poses
+    spdlog::warn("live view on {}:{} is open to every host that reaches it (no authentication); 127.0.0.1 keeps it "
+                 "on this computer (polylocd.live.address, docs/live.md)", m.cfg.address, m.bound_port);
+  m.accept_pause = std::make_unique<asio::steady_timer>(m.ws.get_io_service());
   m.running = true;
+  m.acceptNext();
   m.thread = std::thread([&m] {
     try {
       m.ws.run();
@@ -294,6 +419,7 @@ void FoxgloveServer::stop() {
   asio::post(m.ws.get_io_service(), [&m] {
     websocketpp::lib::error_code ec;
     m.ws.stop_listening(ec);
+    m.accept_pause->cancel();
     for (auto& [h, c] : m.clients) m.ws.close(h, websocketpp::close::status::going_away, "polylocd stops", ec);
   });
   // Clients that do not answer the close are dropped after the close handshake timeout; then

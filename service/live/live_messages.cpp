@@ -243,7 +243,9 @@ Bytes healthJson(const polyloc_health& h, const std::vector<std::string>& inputs
   json viewers{{"clients", s.clients},           {"connections", s.connections},
                {"refused", s.refused},           {"messages_sent", s.messages_sent},
                {"messages_dropped", s.messages_dropped}, {"disconnected_slow", s.disconnected_slow},
-               {"bad_messages", s.bad_messages}, {"http_requests", s.http_requests}};
+               {"bad_messages", s.bad_messages}, {"http_requests", s.http_requests},
+               {"refused_pending", s.refused_pending}, {"rate_limited", s.rate_limited},
+               {"accept_errors", s.accept_errors}};
   return toBytes(json{{"stamp_ns", h.stamp_ns},         {"cycles", h.cycles},   {"poses", h.poses},
                       {"vrs", h.vrs},                   {"tracks", h.tracks},   {"cycle_p50_ms", h.cycle_p50_ms},
                       {"cycle_p99_ms", h.cycle_p99_ms}, {"flags", h.flags},     {"inputs", in},

@@ -14,6 +14,8 @@ ServerConfig serverConfig(const LiveConfig& c) {
   s.address = c.address, s.port = c.port, s.max_clients = c.max_clients;
   s.max_queue_bytes = size_t(c.max_queue_mib * double(1 << 20));
   s.stall_timeout_s = c.stall_timeout_s;
+  s.max_pending = c.max_pending, s.handshake_timeout_s = c.handshake_timeout_s;
+  s.max_subscriptions = c.max_subscriptions, s.max_client_rate = c.max_client_rate;
   s.page = livePage();
   return s;
 }

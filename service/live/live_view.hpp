@@ -24,6 +24,10 @@ struct LiveConfig {
   int max_clients = 8;
   double max_queue_mib = 8;           // per client
   double stall_timeout_s = 3;         // over the queue limit this long: disconnected
+  int max_pending = 16;               // connections in their handshake; more are closed at once
+  double handshake_timeout_s = 3;     // s: a connection that has not finished its handshake is closed
+  int max_subscriptions = 64;         // per client
+  double max_client_rate = 50;        // client messages per second (bursts of as many); more are refused
   size_t particles = 500;             // at most this many particles per message
   double rate_hz = 10;                // particles, depth clouds and the top view, per second of data time
   float slice_height = 0.3f;          // m: the map slice the page draws

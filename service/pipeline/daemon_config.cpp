@@ -73,6 +73,10 @@ DaemonConfig parseDaemonConfig(ConfigMap m) {
     l.max_clients = static_cast<int>(k.getCount("max_clients", l.max_clients, 1, 1000));
     l.max_queue_mib = k.getDouble("max_queue", l.max_queue_mib, 0.01, 4096);
     l.stall_timeout_s = k.getDouble("stall_timeout", l.stall_timeout_s, 0.1, 3600);
+    l.max_pending = static_cast<int>(k.getCount("max_pending", l.max_pending, 1, 1000));
+    l.handshake_timeout_s = k.getDouble("handshake_timeout", l.handshake_timeout_s, 0.1, 60);
+    l.max_subscriptions = static_cast<int>(k.getCount("max_subscriptions", l.max_subscriptions, 1, 100000));
+    l.max_client_rate = k.getDouble("max_client_rate", l.max_client_rate, 1, 100000);
     l.particles = static_cast<size_t>(k.getCount("particles", l.particles, 1, 1'000'000));
     l.rate_hz = k.getDouble("rate", l.rate_hz, 0.01, 1000);
     l.slice_height = float(k.getDouble("slice_height", l.slice_height, -100, 100));

@@ -26,7 +26,19 @@ navigation:
   goals: [lab 1 island, lab 1 bench]
   mission_timeout: 120
 YAML
-"$POLYLOC" eval nav --scenario "$tmp/two.yaml" --missions 2 --json --quiet --plot "$tmp/run.png" > "$tmp/eval.json"
+# The user's own live view holds the default port 8765 (or someone else does): the polylocd that
+# eval nav starts must not try to take it (it opened a live port of its own and logged the clash).
+"$PY" -c '
+import socket, time
+s = socket.socket()
+try:
+    s.bind(("127.0.0.1", 8765)); s.listen()
+except OSError:
+    pass  # held by another process already: as good
+time.sleep(900)' &
+pids+=($!)
+"$POLYLOC" eval nav --scenario "$tmp/two.yaml" --missions 2 --json --quiet --plot "$tmp/run.png" --keep "$tmp/keep" > "$tmp/eval.json"
+if grep -i "live view" "$tmp/keep/polylocd.log"; then echo "eval nav's polylocd opened a live port" >&2; exit 1; fi
 "$PY" - "$tmp/eval.json" <<'PYEOF'
 import json, sys
 j = json.load(open(sys.argv[1]))
@@ -43,6 +55,10 @@ for x in m:
     # never more than 3x the wavefront-optimal path at full speed.
     assert x["duration_s"] < 3 * x["optimal_m"] / 0.5 + 20, x
 assert j["drive"]["loop"]["vrs_missed"] == 0 and j["drive"]["loop"]["commands_late"] == 0, j["drive"]["loop"]
+# polynav's last word is a stop the base takes (it was stamped 0 and refused: the robot kept its
+# last command until the base's watchdog).
+assert j["drive"]["loop"]["last_command"] == "polynav stopped", j["drive"]["loop"]
+assert j["drive"]["loop"]["commands_rejected"] == 0 and j["drive"]["base"]["rejected"] == 0, j["drive"]
 PYEOF
 head -c 8 "$tmp/run.png" | od -An -c | grep -q "P   N   G"
 # The same run again on one polylocd thread: the same missions, decision for decision (lockstep,

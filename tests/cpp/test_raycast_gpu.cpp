@@ -341,6 +341,24 @@ TEST(GpuCaster, CastersComeAndGoAndServeAnyThread) {
   for (float r : got) EXPECT_NEAR(r, 1.88f, 1e-4f);
 }
 
+// Was: every batch ended with no context current, unbinding a caller's own GL context.
+TEST(GpuCaster, LeavesTheCallersContextCurrent) {
+  const Mesh room = boxRoom(2.f, 1.5f, 3.f, 0.2f);
+  GpuContext mine;
+  mine.makeCurrent();
+  {
+    const GpuCaster c(room);  // builds, casts and is destroyed with its own context
+    const Eigen::Vector3f o(0.12f, 0.07f, 0.3f), d(1, 0, 0);
+    float r = 0;
+    c.castRays({&o.x(), &o.y(), &o.z(), &d.x(), &d.y(), &d.z(), nullptr, nullptr, 1}, {&r});
+    EXPECT_NEAR(r, 1.88f, 1e-4f);
+    EXPECT_TRUE(mine.current());
+  }
+  EXPECT_TRUE(mine.current());
+  mine.release();
+  EXPECT_FALSE(mine.current());
+}
+
 TEST(GpuCaster, ErrorsNameWhatIsMissing) {
   const Mesh room = boxRoom(2.f, 1.5f, 3.f, 0.2f);
   GpuCasterOptions bad;

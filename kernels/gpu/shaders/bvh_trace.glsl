@@ -31,11 +31,12 @@ struct Hit {
 // triangles in: of two coplanar faces facing opposite ways (touching solids: an exit face and the
 // neighbour's entry face) the back face; of a front and a back face meeting at an edge or vertex,
 // the front face (the ray touched the surface; its origin is not inside a solid); then the lower
-// triangle index. "One distance" is float equality, as in Embree: coplanar faces of different
-// vertices can differ in the last bit, and then the nearer wins in both backends alike.
+// triangle index. "One distance" is within tie_tol, as in Embree (CoincidentFaces::tolerance():
+// 1e-5 m, or a few float steps at the map's largest coordinate).
+uniform float tie_tol;
 bool replaces(float t, vec3 nrm, bool back, uint id, Hit h, vec3 best_n) {
   if (h.id == kNoHit) return true;
-  if (t != h.t) return t < h.t;
+  if (abs(t - h.t) > tie_tol) return t < h.t;
   if (back != h.back) return dot(nrm, best_n) < -0.999 ? back : !back;
   return id < h.id;
 }
@@ -72,12 +73,13 @@ Hit trace(vec3 o, vec3 d, float t0, float t1) {
   sp = 1;
   while (sp > 0) {
     --sp;
-    if (entry[sp] > h.t) continue;
+    float reach = min(h.t + tie_tol, t1);  // a tie may lie a tolerance beyond the kept hit
+    if (entry[sp] > reach) continue;
     int ref = stack[sp];
     if (ref >= 0) {
       Node n = nodes[ref];
-      float el = enterBox(n.lmin.xyz, n.lmax.xyz, o, inv, t0, h.t);
-      float er = enterBox(n.rmin.xyz, n.rmax.xyz, o, inv, t0, h.t);
+      float el = enterBox(n.lmin.xyz, n.lmax.xyz, o, inv, t0, reach);
+      float er = enterBox(n.rmin.xyz, n.rmax.xyz, o, inv, t0, reach);
       int l = floatBitsToInt(n.lmin.w), r = floatBitsToInt(n.lmax.w);
       if (el > er) { float te = el; el = er; er = te; int tr = l; l = r; r = tr; }
       if (er < kFar && sp < kStack) { stack[sp] = r; entry[sp] = er; ++sp; }
@@ -97,7 +99,7 @@ Hit trace(vec3 o, vec3 d, float t0, float t1) {
       float det = U + V + W;
       if (det == 0.0) continue;
       float t = (U * (sz * A[kz]) + V * (sz * B[kz]) + W * (sz * C[kz])) / det;
-      if (!(t >= t0 && t <= h.t)) continue;
+      if (!(t >= t0 && t <= min(h.t + tie_tol, t1))) continue;
       vec3 nrm = normalize(cross(v1 - v0, v2 - v0));
       bool back = dot(nrm, d) > 0.0;
       uint id = tri_id[i];

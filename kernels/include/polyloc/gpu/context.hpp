@@ -45,8 +45,11 @@ class GpuContext {
   GpuContext& operator=(const GpuContext&) = delete;
 
   const GpuInfo& info() const { return info_; }
+  // makeCurrent() remembers the context that was current on this thread (a caller's own GL
+  // work); release() makes that one current again (or none), so that polyloc never unbinds it.
   void makeCurrent() const;  // throws GpuError when the context is lost
-  void release() const;      // current on no thread (another thread may then make it current)
+  void release() const;      // then current on no thread of ours (another thread may make it current)
+  bool current() const;      // current on the calling thread
   // Throws GpuError naming `what` and the GL error, if one is pending.
   void check(const char* what) const;
 

@@ -1,7 +1,8 @@
 // The simulated robot base executing velocity commands as a real base does: commands are checked
 // (nonsense rejected, the rest clamped to the limits), the velocity follows the last command
 // within per-axis acceleration limits, a watchdog brings the base to a stop when commands cease,
-// and the planar pose is integrated exactly along circular arcs in substeps of at most 10 ms.
+// and the planar pose is integrated along circular arcs with each piece's mean velocity (exact at
+// constant velocity, second order while it changes) in substeps of at most 10 ms.
 #pragma once
 
 #include <polyloc/config/robot.hpp>

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 
 struct PlayResult {
   uint64_t sent = 0, late = 0, reattached = 0;
@@ -46,9 +46,17 @@ class PlayFeed {
   // m.log_time_ns already moved by offset_ns (--loop); header stamps are moved here the same way.
   void send(const RecordedMessage& m, int64_t offset_ns, int64_t first_log_ns);
   void poll();         // reads new poses and health
+  // About twice a second (cheaper calls return at once): notices a polylocd that stopped, died
+  // or restarted, re-attaches to a new one, and says so once per change. send() calls it.
+  void watch();
   void finish();       // flushes pending depth frames, waits briefly for the last outputs
   void countLate() { ++r_.late; }
-  int64_t baseNs() const { return base_ns_; }  // CLOCK_REALTIME the source's first stamp is moved to
+  int64_t baseNs() const { return base_ns_; }
+  bool up() const { return up_; }  // attached to a running polylocd (as of the last check)
+  // Counts the segments attached so far: readers of polylocd's outputs elsewhere (play --drive)
+  // re-attach when it changes.
+  uint64_t attachments() const { return attachments_; }
+  const shm::Segment& segment() const { return *seg_; }  // while up()  // CLOCK_REALTIME the source's first stamp is moved to
   // Stamps from `first_log_ns` on stay the source's own (not moved onto the wall clock): for a
   // polylocd on the source clock, so that a run does not depend on when it was started.
   void keepSourceStamps(int64_t first_log_ns) { base_ns_ = first_log_ns; }
@@ -62,9 +70,9 @@ class PlayFeed {
 
  private:
   bool attach(double wait_s);  // false: no running polylocd within wait_s
-  void watch();
 
   bool up_ = false;
+  uint64_t attachments_ = 0;
   std::chrono::steady_clock::time_point next_check_{};
   std::vector<std::string> input_names_;  // of the health entries, read with them
   std::string instance_;
@@ -83,4 +91,4 @@ class PlayFeed {
   std::vector<uint8_t> buf_;
 };
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

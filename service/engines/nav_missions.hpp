@@ -18,11 +18,12 @@
 #include <string>
 #include <vector>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 
 struct MissionResult {
   std::string goal;
   bool started = false, ended = false, reached = false;
+  bool settling = false;                  // the controller said reached/failed; the base is still braking
   std::string end_status;                 // the controller's status line at the end
   double t_start = 0, t_end = 0;          // s of simulated time
   double goal_error_m = std::numeric_limits<double>::quiet_NaN(), goal_yaw_error_deg = std::numeric_limits<double>::quiet_NaN();
@@ -42,18 +43,22 @@ class MissionTracker {
                  OptimalLength optimal);
   // A command read from cmd_vel (goal, nav_state, status), at simulated time t, the robot truly at `truth`.
   void onCommand(uint32_t goal, uint32_t state, const std::string& status, double t, const Pose& truth);
-  // Every simulator step: the true pose, the base's forward speed, the body's clearance (m; +inf: not measured).
-  void onStep(const Pose& truth, double forward_speed, double clearance);
+  // Every simulator step: the true pose, the base's speeds, the body's clearance (m; +inf: not
+  // measured). A mission the controller ended is scored here, once the base stands: the goal
+  // error is where the robot came to rest, not where it was when the command was read.
+  void onStep(const Pose& truth, double forward_speed, double turn_rate, double clearance);
   void onCollision(const CollisionEvent& c);
   // The current mission ends as failed (timeout of the evaluation, controller gone).
   void abort(double t, const std::string& why);
   bool done() const;
+  bool settling() const { return current_ < results_.size() && results_[current_].settling; }
   size_t current() const { return current_; }
   const std::vector<MissionResult>& results() const { return results_; }
   nlohmann::json json() const;
 
  private:
   MissionResult* active();
+  void settle(MissionResult& m, const Pose& truth);  // final: goal error from where it stands
 
   const polynav::Zones& zones_;
   std::vector<polynav::GoalSpot> goals_;
@@ -67,4 +72,4 @@ class MissionTracker {
   int door_sign_ = 0, door_reversals_ = 0;
 };
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 
 class ChildProcess {
  public:
@@ -35,4 +35,4 @@ class ChildProcess {
 // The directory of this executable (/proc/self/exe): where polylocd and polynav lie beside it.
 std::string executableDir();
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

@@ -1,4 +1,4 @@
-#include "cli/play_feed.hpp"
+#include "engines/play_feed.hpp"
 
 #include "pipeline/shm_payloads.hpp"
 
@@ -15,7 +15,7 @@
 #include <thread>
 #include <tuple>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 namespace {
 
 int64_t realtimeNs() {
@@ -59,13 +59,15 @@ bool PlayFeed::attach(double wait_s) {
   for (;;) {
     try {
       seg_.emplace(shm::Segment::attach(instance_));
-      if (seg_->header().state == POLYLOC_STATE_READY) break;
-      seg_.reset();  // stopped: a daemon that ended, or one whose start failed
+      // READY and its owner alive: a daemon that was killed leaves READY behind.
+      if (seg_->header().state == POLYLOC_STATE_READY && !seg_->stale()) break;
+      seg_.reset();  // stopped: a daemon that ended, died, or whose start failed
     } catch (const shm::ShmError&) {
     }
     if (std::chrono::steady_clock::now() >= deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
+  ++attachments_;
   feed_ = std::make_unique<pipeline::MessageFeed>(*seg_);
   if (const int p = seg_->find("pose"); p >= 0) pose_reader_ = std::make_unique<shm::Reader>(*seg_, p, shm::Reader::Start::Next);
   if (const int p = seg_->find("health"); p >= 0) health_reader_ = std::make_unique<shm::Reader>(*seg_, p, shm::Reader::Start::Newest);
@@ -81,7 +83,7 @@ void PlayFeed::watch() {
   if (up_ && !seg_->stale()) return;
   const bool was_up = up_;
   up_ = attach(0);
-  if (up_ && was_up) {
+  if (up_ && was_up) {  // between two checks it died and another one started
     ++r_.reattached;
     fmt::print(stderr, "\npolyloc play: polylocd '{}' restarted: re-attached (generation {})\n", instance_, seg_->generation());
   } else if (up_) {
@@ -218,4 +220,4 @@ nlohmann::json PlayFeed::resultJson() const {
   return j;
 }
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

@@ -1,12 +1,12 @@
-#include "cli/nav_missions.hpp"
+#include "engines/nav_missions.hpp"
 
-#include "cli/play_drive.hpp"
+#include "engines/drive_report.hpp"
 
 #include <polyloc_shm.h>
 
 #include <cmath>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 
 MissionTracker::MissionTracker(const polynav::Zones& zones, std::vector<polynav::GoalSpot> goals,
                                polynav::Polygon footprint, OptimalLength optimal)
@@ -25,7 +25,10 @@ void MissionTracker::onCommand(uint32_t goal, uint32_t state, const std::string&
     current_ = results_.size();
     return;
   }
-  if (goal > current_ && active()) abort(t, "the controller moved on without ending it");
+  if (goal > current_ && active()) {
+    if (active()->settling) settle(*active(), truth);  // moved on while the base still braked
+    else abort(t, "the controller moved on without ending it");
+  }
   if (goal < current_) return;  // late frames of an ended mission
   current_ = goal;
   MissionResult& m = results_[goal];
@@ -34,27 +37,41 @@ void MissionTracker::onCommand(uint32_t goal, uint32_t state, const std::string&
     m.t_start = t;
     if (optimal_) m.optimal_m = optimal_({truth.x(), truth.y()}, goals_[goal]);
   }
-  if (m.ended || (state != POLYLOC_NAV_REACHED && state != POLYLOC_NAV_FAILED)) return;
-  m.ended = true;
+  if (m.ended || m.settling || (state != POLYLOC_NAV_REACHED && state != POLYLOC_NAV_FAILED)) return;
+  m.settling = true;  // ended when the base stands (onStep)
   m.t_end = t;
   m.reached = state == POLYLOC_NAV_REACHED;
   m.end_status = status;
-  const Eigen::Vector3d& g = goals_[goal].pose;
+}
+
+void MissionTracker::settle(MissionResult& m, const Pose& truth) {
+  const Eigen::Vector3d& g = goals_[size_t(&m - results_.data())].pose;
   m.goal_error_m = std::hypot(truth.x() - g.x(), truth.y() - g.y());
   m.goal_yaw_error_deg = std::abs(std::remainder(truth.yaw() - g.z(), 2 * M_PI)) * 180 / M_PI;
+  m.settling = false;
+  m.ended = true;
 }
 
 void MissionTracker::abort(double t, const std::string& why) {
   MissionResult* m = active();
   if (!m) return;
+  if (m->settling) {  // the controller had ended it: its verdict stands, scored where the robot is
+    if (last_) settle(*m, *last_);
+    else m->settling = false, m->ended = true;
+    return;
+  }
   m->ended = true;
   m->t_end = t;
   m->end_status = why;
 }
 
-void MissionTracker::onStep(const Pose& truth, double forward_speed, double clearance) {
+void MissionTracker::onStep(const Pose& truth, double forward_speed, double turn_rate, double clearance) {
   const Eigen::Vector2d p(truth.x(), truth.y());
   MissionResult* m = active();
+  if (m && m->settling && std::abs(forward_speed) < 1e-3 && std::abs(turn_rate) < 1e-3) {
+    settle(*m, truth);
+    m = nullptr;
+  }
   if (m && last_) m->driven_m += std::hypot(truth.x() - last_->x(), truth.y() - last_->y());
   last_ = truth;
   if (m) m->min_clearance_m = std::min(m->min_clearance_m, clearance);
@@ -101,4 +118,4 @@ nlohmann::json MissionTracker::json() const {
   return out;
 }
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

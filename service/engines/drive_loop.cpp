@@ -1,4 +1,4 @@
-#include "cli/drive_loop.hpp"
+#include "engines/drive_loop.hpp"
 
 #include "shm/validate.hpp"
 
@@ -10,7 +10,7 @@
 #include <cstring>
 #include <thread>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -29,14 +29,7 @@ class Collect final : public RecordingWriter {
 
 DriveLoop::DriveLoop(Simulator& sim, const std::string& instance, const DriveLoopOptions& options)
     : sim_(sim), opt_(options), feed_(instance, options.wait_attach_s), drive_(std::make_unique<DriveSim>(sim, options.drive)) {
-  seg_.emplace(shm::Segment::attach(instance));
-  const int vrs = seg_->find("vrs"), cmd = seg_->find("cmd_vel");
-  if (cmd < 0)
-    throw std::runtime_error(fmt::format("polylocd '{}' has no cmd_vel channel: it is older than this polyloc "
-                                         "(restart it from this build)", instance));
-  if (vrs < 0) throw std::runtime_error(fmt::format("polylocd '{}' has no vrs channel", instance));
-  vrs_ = std::make_unique<shm::Reader>(*seg_, vrs, shm::Reader::Start::Next);
-  cmd_ = std::make_unique<shm::Reader>(*seg_, cmd, shm::Reader::Start::Next);
+  attachReaders();
   // polylocd renews the VRS at the frames of the last level scanner (pipeline.cpp).
   const auto& cfg = sim.scenario().config;
   PeopleTracker tracker(cfg.rig, cfg.tracking);
@@ -50,6 +43,30 @@ DriveLoop::DriveLoop(Simulator& sim, const std::string& instance, const DriveLoo
 }
 
 DriveLoop::~DriveLoop() = default;
+
+// The VRS and cmd_vel readers on the segment the feed is attached to: again after a restart of
+// polylocd (the feed re-attaches; readers left on the dead segment would wait for ever).
+void DriveLoop::attachReaders() {
+  const shm::Segment& seg = feed_.segment();
+  const int vrs = seg.find("vrs"), cmd = seg.find("cmd_vel");
+  const std::string& instance = seg.instance();
+  if (cmd < 0)
+    throw std::runtime_error(fmt::format("polylocd '{}' has no cmd_vel channel: it is older than this polyloc "
+                                         "(restart it from this build)", instance));
+  if (vrs < 0) throw std::runtime_error(fmt::format("polylocd '{}' has no vrs channel", instance));
+  vrs_ = std::make_unique<shm::Reader>(seg, vrs, shm::Reader::Start::Next);
+  cmd_ = std::make_unique<shm::Reader>(seg, cmd, shm::Reader::Start::Next);
+  if (readers_at_ != 0) ++counters_.reattached;
+  readers_at_ = feed_.attachments();
+  counters_.commands_since_attach = 0;
+}
+
+// False while polylocd is away; the readers follow the feed to a new segment.
+bool DriveLoop::readersUp() {
+  if (!feed_.up()) return false;
+  if (feed_.attachments() != readers_at_) attachReaders();
+  return true;
+}
 
 bool DriveLoop::waitFor(shm::Reader& r, int64_t stamp, double wait_s, bool at_least) {
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wait_s));
@@ -67,7 +84,7 @@ bool DriveLoop::waitFor(shm::Reader& r, int64_t stamp, double wait_s, bool at_le
         polyloc_command c;
         std::memcpy(&c, buf_.data(), sizeof c);
         last_cmd_stamp_ = c.stamp_ns;
-        ++counters_.commands;
+        ++counters_.commands, ++counters_.commands_since_attach;
         last_status_ = c.status;
         drive_->command({c.stamp_ns - feed_.baseNs(), c.vx, c.vy, c.wz});
         if (on_command) on_command(c, double(c.stamp_ns - feed_.baseNs()) * 1e-9);
@@ -77,6 +94,12 @@ bool DriveLoop::waitFor(shm::Reader& r, int64_t stamp, double wait_s, bool at_le
       }
     }
     if (Clock::now() >= deadline) return false;
+    feed_.watch();
+    if (!feed_.up() || feed_.attachments() != readers_at_) return false;  // polylocd went: do not wait for it
+    if (&r == cmd_.get() && controller_alive && !controller_alive()) {  // it ended without answering
+      controller_gone_ = true;
+      return false;
+    }
     r.wait(2'000'000);
     feed_.poll();
   }
@@ -84,7 +107,7 @@ bool DriveLoop::waitFor(shm::Reader& r, int64_t stamp, double wait_s, bool at_le
 
 bool DriveLoop::waitForController(double timeout_s, const std::function<bool()>& alive) {
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
-  const polyloc_ring_control* ring = seg_->ring(seg_->find("cmd_vel"));
+  const polyloc_ring_control* ring = feed_.segment().ring(feed_.segment().find("cmd_vel"));
   while (__atomic_load_n(&ring->writer_pid, __ATOMIC_ACQUIRE) == 0) {
     if (Clock::now() >= deadline || (alive && !alive())) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -93,7 +116,9 @@ bool DriveLoop::waitForController(double timeout_s, const std::function<bool()>&
   return true;
 }
 
-void DriveLoop::readCommands() { waitFor(*cmd_, INT64_MAX, 0, true); }
+void DriveLoop::readCommands() {
+  if (readersUp()) waitFor(*cmd_, INT64_MAX, 0, true);
+}
 
 void DriveLoop::step() {
   const int64_t t = drive_->nextEventNs();
@@ -125,10 +150,11 @@ void DriveLoop::step() {
   for (int64_t t_trigger : triggers) {
     ++counters_.triggers;
     const int64_t stamp = feed_.baseNs() + t_trigger;
-    if (!waitFor(*vrs_, stamp, opt_.wait_vrs_s, false)) ++counters_.vrs_missed;
-    else if (!waitFor(*cmd_, stamp, opt_.wait_command_s, true)) ++counters_.commands_late;
+    if (!readersUp() || !waitFor(*vrs_, stamp, opt_.wait_vrs_s, false)) ++counters_.vrs_missed;
+    else if (!controller_gone_ && !waitFor(*cmd_, stamp, opt_.wait_command_s, true) && !controller_gone_)
+      ++counters_.commands_late;
   }
   readCommands();
 }
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

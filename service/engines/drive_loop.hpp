@@ -7,7 +7,7 @@
 // command timeout stops the robot, as on a real robot.
 #pragma once
 
-#include "cli/play_feed.hpp"
+#include "engines/play_feed.hpp"
 
 #include <polyloc/sim/drive.hpp>
 
@@ -16,7 +16,7 @@
 #include <optional>
 #include <string>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 
 struct DriveLoopOptions {
   DriveOptions drive;
@@ -32,6 +32,8 @@ struct DriveCounters {
   uint64_t commands = 0;         // commands read from cmd_vel
   uint64_t commands_late = 0;    // trigger scans the controller did not answer within wait_command_s
   uint64_t commands_rejected = 0;  // by the validation of the channel (out of domain, bad size)
+  uint64_t reattached = 0;         // readers moved to a restarted polylocd's segment
+  uint64_t commands_since_attach = 0;  // commands read since the last (re-)attachment
 };
 
 class DriveLoop {
@@ -47,6 +49,13 @@ class DriveLoop {
   // controller. `on_command` sees every command read (t: simulated s of its stamp).
   void step();
   std::function<void(const polyloc_command&, double t)> on_command;
+  // Takes the commands written so far (e.g. the controller's last stop after it ended).
+  void readCommands();
+  // The controller ended: steps no longer wait for its answers (the base runs on its last
+  // command and its watchdog), nor count them late.
+  void controllerGone() { controller_gone_ = true; }
+  // When set: asked while waiting for a command; false ends the wait (controllerGone()).
+  std::function<bool()> controller_alive;
 
   const DriveSim& drive() const { return *drive_; }
   PlayFeed& feed() { return feed_; }
@@ -56,13 +65,15 @@ class DriveLoop {
 
  private:
   bool waitFor(shm::Reader& r, int64_t stamp, double wait_s, bool at_least);
-  void readCommands();
+  void attachReaders();
+  bool readersUp();
+  uint64_t readers_at_ = 0;  // the feed's attachment the readers are on
+  bool controller_gone_ = false;
 
   Simulator& sim_;
   DriveLoopOptions opt_;
   PlayFeed feed_;
   std::unique_ptr<DriveSim> drive_;
-  std::optional<shm::Segment> seg_;
   std::unique_ptr<shm::Reader> vrs_, cmd_;
   std::string trigger_topic_;
   int64_t start_ns_ = 0;  // the scenario's start stamp
@@ -73,4 +84,4 @@ class DriveLoop {
   std::string last_status_;
 };
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

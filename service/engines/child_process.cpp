@@ -1,4 +1,4 @@
-#include "cli/child_process.hpp"
+#include "engines/child_process.hpp"
 
 #include <fmt/core.h>
 
@@ -15,7 +15,7 @@
 
 extern char** environ;
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 
 ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& stdout_path,
                            const std::string& stderr_path)
@@ -82,4 +82,4 @@ std::string executableDir() {
   return std::filesystem::path(exe).parent_path().string();
 }
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

@@ -1,7 +1,7 @@
 // The three transports of `polyloc bench ipc` over one harness: the writer (this thread) sends
 // on a fixed schedule, sleeping between messages; the reader (another thread, on another CPU when pinned) blocks until each message is there, copies
 // it out and notes the time. Each message carries its number and its send time.
-#include "cli/ipc_latency.hpp"
+#include "engines/ipc_latency.hpp"
 
 #include "shm/channel.hpp"
 #include "shm/segment.hpp"
@@ -23,7 +23,7 @@
 #include <stdexcept>
 #include <thread>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 namespace {
 
 int64_t nowNs() {
@@ -243,4 +243,4 @@ IpcSamples tcpLatency(const IpcLatencyConfig& c, const std::function<void(double
   return overSockets(c, s, "tcp", progress);
 }
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines

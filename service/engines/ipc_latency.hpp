@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace polyloc::cli {
+namespace polyloc::engines {
 
 struct IpcLatencyConfig {
   uint32_t bytes = 2180;        // a 541-beam scan: 16 + 541 * 4
@@ -31,4 +31,4 @@ IpcSamples shmLatency(const IpcLatencyConfig& c, const std::function<void(double
 IpcSamples udsLatency(const IpcLatencyConfig& c, const std::function<void(double)>& progress);
 IpcSamples tcpLatency(const IpcLatencyConfig& c, const std::function<void(double)>& progress);
 
-}  // namespace polyloc::cli
+}  // namespace polyloc::engines
