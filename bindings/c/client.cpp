@@ -3,6 +3,8 @@
 #include "polyloc_client.h"
 
 #include "shm/channel.hpp"
+
+#include <polyloc/geometry/pose.hpp>
 #include "shm/segment.hpp"
 
 #include <cmath>
@@ -169,6 +171,10 @@ extern "C" {
 
 const char* polyloc_last_error(void) { return g_error.c_str(); }
 uint32_t polyloc_abi_version(void) { return POLYLOC_SHM_ABI_VERSION; }
+
+double polyloc_quaternion_yaw(double qw, double qx, double qy, double qz) {
+  return polyloc::yawOfQuaternion(qw, qx, qy, qz);
+}
 
 const char* polyloc_status_name(int status) {
   switch (status) {

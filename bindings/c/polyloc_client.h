@@ -66,6 +66,9 @@ POLYLOC_API const char* polyloc_last_error(void);
 POLYLOC_API uint32_t polyloc_abi_version(void);
 /* A short name of a status code ("ok", "no data", "timeout", "abi", ...). */
 POLYLOC_API const char* polyloc_status_name(int status);
+/* The yaw (rad, -pi..pi) of the unit quaternion (qw, qx, qy, qz) of a pose, odometry or
+   map_odom: the rotation about z, as tf2::getYaw. */
+POLYLOC_API double polyloc_quaternion_yaw(double qw, double qx, double qy, double qz);
 
 /* Maps the segment of instance ("lab" -> /polyloc.lab). *out is set only on success. */
 POLYLOC_API int polyloc_attach(const char* instance, polyloc_client** out);

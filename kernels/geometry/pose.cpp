@@ -26,8 +26,7 @@ double Pose::pitch() const {
   return std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
 }
 double Pose::yaw() const {
-  const Eigen::Matrix3d r = q_.toRotationMatrix();
-  return std::atan2(r(1, 0), r(0, 0));
+  return yawOfQuaternion(q_.w(), q_.x(), q_.y(), q_.z());  // bit for bit what the rotation matrix gives
 }
 
 Eigen::Matrix4d Pose::matrix() const {

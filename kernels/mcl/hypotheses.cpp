@@ -8,9 +8,7 @@
 namespace polyloc {
 namespace {
 
-double yawOf(const ParticleSet& s, size_t i) {
-  return std::atan2(2 * (s.qw[i] * s.qz[i] + s.qx[i] * s.qy[i]), 1 - 2 * (s.qy[i] * s.qy[i] + s.qz[i] * s.qz[i]));
-}
+double yawOf(const ParticleSet& s, size_t i) { return yawOfQuaternion(s.qw[i], s.qx[i], s.qy[i], s.qz[i]); }
 
 }  // namespace
 

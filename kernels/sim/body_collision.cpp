@@ -1,5 +1,7 @@
 #include <polyloc/sim/body_collision.hpp>
 
+#include <polyloc/geometry/closest_point.hpp>
+
 #include <polyloc/sim/convex_overlap.hpp>
 
 #include <fmt/format.h>
@@ -18,26 +20,6 @@ namespace {
 constexpr double kMaxCoord = 1e6;     // m: a pose beyond this is a bug upstream
 constexpr long kMaxCells = 1L << 24;  // a huge map gets coarser cells, not gigabytes of grid
 constexpr long kMaxCellsPerAxis = 1L << 16;
-
-// Nearest point of triangle abc to p: p's projection onto the plane when it falls inside,
-// else the nearest point of the three edges.
-Eigen::Vector3d nearestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                  const Eigen::Vector3d& c) {
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  if (n.squaredNorm() > 0) {
-    const Eigen::Vector3d q = p - n * (n.dot(p - a) / n.squaredNorm());
-    if (n.dot((b - a).cross(q - a)) >= 0 && n.dot((c - b).cross(q - b)) >= 0 && n.dot((a - c).cross(q - c)) >= 0)
-      return q;
-  }
-  Eigen::Vector3d best = a;
-  for (const auto& [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
-    const Eigen::Vector3d e = v - u;
-    const double t = e.squaredNorm() > 0 ? std::clamp(e.dot(p - u) / e.squaredNorm(), 0.0, 1.0) : 0.0;
-    const Eigen::Vector3d q = u + t * e;
-    if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
-  }
-  return best;
-}
 
 bool insidePolygon(const std::vector<Eigen::Vector2d>& ccw, const Eigen::Vector2d& p) {
   for (size_t i = 0; i < ccw.size(); ++i) {
@@ -150,7 +132,7 @@ BodyContact BodyCollider::check(const Pose& map_T_base, const PeopleScene* peopl
           std::any_of(pieces_.begin(), pieces_.end(), [&](const auto& p) { return insidePolygon(p, local); }))
         sum += v, ++n;
     }
-    hit.where = n > 0 ? Eigen::Vector3d(sum / n) : nearestOnTriangle(centre, a, b, c);
+    hit.where = n > 0 ? Eigen::Vector3d(sum / n) : closestPointOnTriangle(centre, a, b, c);
     hit.where = hit.where.cwiseMax(bb.min()).cwiseMin(bb.max());
     return hit;
   }

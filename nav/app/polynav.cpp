@@ -80,9 +80,7 @@ std::vector<polynav::GoalSpot> pickGoals(const Args& a, const polynav::Zones& z)
   return out;
 }
 
-double yawOf(double qw, double qx, double qy, double qz) {
-  return std::atan2(2 * (qw * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz));
-}
+double yawOf(double qw, double qx, double qy, double qz) { return polyloc_quaternion_yaw(qw, qx, qy, qz); }
 
 // The pose now, as REP-105 has it: polylocd's map_T_odom (from its last update) after the base's
 // newest odometry. polylocd updates every few centimetres of motion; odometry fills in between,

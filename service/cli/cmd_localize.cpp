@@ -114,6 +114,15 @@ void runLocalize(const LocalizeArgs& a) {
   if (!a.plot.empty()) reloc::drawPlot(mesh, r, mp, a.plot);
   const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
   const double ups = r.filter_s > 0 ? double(r.updates) / r.filter_s : 0.0;
+  // Every scan refused is a failed run, not an empty success: the counts go out, then the error.
+  const auto noScanUsed = [&] {
+    const auto& c = r.counters;
+    if (c.at("scans_used") > 0) return;
+    throw std::runtime_error(fmt::format("localize: no scan of {} was used, nothing was localised ({} rejected: {} wrong "
+                                         "size, {} wrong geometry, {} without a valid range, {} of no rig sensor)",
+                                         a.input, c.at("scans_rejected"), c.at("scans_wrong_size"), c.at("scans_wrong_geometry"),
+                                         c.at("scans_no_valid_range"), c.at("scans_unknown_sensor")));
+  };
 
   if (a.json) {
     nlohmann::json j = reloc::resultJson(r, mp);
@@ -124,7 +133,7 @@ void runLocalize(const LocalizeArgs& a) {
     if (!a.plot.empty()) j["plot"] = a.plot;
     if (metrics) j["ground_truth"] = r.truth_from_stream ? std::string("/ground_truth") : a.ground_truth;
     fmt::print("{}\n", j.dump());
-    return;
+    return noScanUsed();
   }
   const auto& c = r.counters;
   fmt::print("input      {} ({}), {} messages\n", a.input, r.format, c.at("messages"));
@@ -154,6 +163,7 @@ void runLocalize(const LocalizeArgs& a) {
   }
   if (!a.out.empty()) fmt::print("trajectory {}\n", a.out);
   if (!a.plot.empty()) fmt::print("plot       {}\n", a.plot);
+  noScanUsed();
 }
 
 }  // namespace

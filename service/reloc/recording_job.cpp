@@ -270,6 +270,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
                   {"odometry_invalid", c.odometry_invalid},
                   {"odometry_gaps", c.odometry_gaps},
                   {"scans", c.scans},
+                  {"scans_used", c.scans - c.scans_rejected},  // weighed or waiting for motion: not refused
                   {"scans_rejected", c.scans_rejected + wrong_size + wrong_geometry + bad_image + no_range},
                   {"scans_wrong_size", wrong_size},
                   {"scans_wrong_geometry", wrong_geometry},

@@ -20,8 +20,10 @@ assert rc["caster"] == "gpu" and rc["renderer"] and isinstance(rc["software_rend
 # docs/benchmarks.md: 99.975% of the lab's planar rays within 1 mm, the rest facing ties.
 assert rc["within_1mm_of_embree"] >= 0.999, rc["within_1mm_of_embree"]
 assert rc["hit_disagreement"] <= 0.0005, rc["hit_disagreement"]
-assert rc["rays_per_s"] > 0 and rc["build_s"] > 0 and rc["memory_bytes"] > 6760 * 48, rc
-assert mcl["caster"] == "gpu" and mcl["status"] == "tracking" and mcl["pos_err_m"] < 0.05, mcl
+# Speed is a figure of docs/benchmarks.md, checked by make check-figures, not here.
+assert rc["memory_bytes"] > 6760 * 48, rc
+# Measured 0.03 mm: 1 mm, the allowance on translation errors of docs/figures.json (was 5 cm).
+assert mcl["caster"] == "gpu" and mcl["status"] == "tracking" and mcl["pos_err_m"] < 0.001, mcl
 PY
 "$polyloc" simulate --scenario maps/scenarios/office_patrol.yaml --duration 10 --out "$tmp/run.mcap" >/dev/null
 config() {  # office.yaml with absolute paths and extra mcl keys

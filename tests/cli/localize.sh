@@ -63,14 +63,18 @@ sed -i 's/caster: grid2d, /caster: grid2d, sensors: [lms_front, lms_side], /' "$
 if "$polyloc" localize --config "$tmp/grid.yaml" --input "$tmp/run.mcap" 2>"$tmp/err"; then exit 1; fi
 grep -q "grid.yaml:4:.*mcl.sensors.*'lms_side' is not in rig" "$tmp/err" || { cat "$tmp/err"; exit 1; }
 # CARMEN: FLASER goes to the taser's first planar scanner, an LMS200 with 361 beams; FLASER
-# with 3 ranges is rejected, counted and warned about once; the run ends normally.
+# with 3 ranges is rejected, counted and warned about once. With every scan rejected nothing was
+# localised: the counts still go out, and the run is an error (it exited 0).
 {
   for i in 0 1 2 3 4; do
     echo "ODOM 0.$i 0 0 0.1 0 0 100$i.0 host 0"
     echo "FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 100$i.5 host 0"
   done
 } >"$tmp/run.log"
-out=$("$polyloc" localize --config maps/config/office.yaml --input "$tmp/run.log" --init 1,1.5,0,90 --json 2>"$tmp/err")
+rc=0
+out=$("$polyloc" localize --config maps/config/office.yaml --input "$tmp/run.log" --init 1,1.5,0,90 --json 2>"$tmp/err") || rc=$?
+[ "$rc" = 1 ] || { echo "exit $rc when every scan was rejected" >&2; exit 1; }
+grep -q "no scan of $tmp/run.log was used, nothing was localised (5 rejected: 5 wrong size" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
 python3 -c 'import json,sys; j=json.loads(sys.argv[1]); c=j["counters"]; assert c["scans_wrong_size"] == 5 and c["odometry"] == 5, c; assert "ate_rmse_m" not in j' "$out"
 grep -q "/front_laser: 3 beams, .* recorded, sensor 'lms_front' has 361 beams" "$tmp/err"
 [ "$(grep -c 'warning: /front_laser' "$tmp/err")" = 1 ]  # warned once

@@ -50,10 +50,12 @@ assert j["collisions"] == 0 and j["danger_entries"] == 0, j
 assert j["door_passages"] >= 1 and j["door_oscillations"] == 0, j
 for x in m:
     assert x["goal_error_m"] <= 0.02 and x["goal_yaw_error_deg"] <= 1.0, x
-    assert x["min_clearance_m"] >= 0.01, x
-    # Docking 25 cm in front of the island and the bench: the door and the approach cost time,
-    # never more than 3x the wavefront-optimal path at full speed.
-    assert x["duration_s"] < 3 * x["optimal_m"] / 0.5 + 20, x
+    # Measured: 10 cm of clearance at the closest (the margins measured are 1, 2, 3, 5, 7.5, 10,
+    # 15 cm): 5 cm, the next below 1.5x worse, fails.
+    assert x["min_clearance_m"] >= 0.075, x
+# Docking 25 cm in front of the island and the bench: the door and the approach cost time.
+# Measured 3.43x the wavefront-optimal path at full speed (both missions): 1.5x worse fails.
+assert j["time_vs_optimal"] <= 1.5 * 3.43, j["time_vs_optimal"]
 assert j["drive"]["loop"]["vrs_missed"] == 0 and j["drive"]["loop"]["commands_late"] == 0, j["drive"]["loop"]
 # polynav's last word is a stop the base takes (it was stamped 0 and refused: the robot kept its
 # last command until the base's watchdog).

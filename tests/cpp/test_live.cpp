@@ -241,7 +241,7 @@ TEST(FoxgloveServer, PortInUseIsNamedAndAnyFreePortWorks) {
   a.start();
   ASSERT_GT(a.port(), 0);
   EXPECT_FALSE(a.subscribed(ch));
-  a.publish(ch, 1, Bytes{'{', '}'});  // nobody listens: nothing happens
+  a.publish(ch, 1, Bytes{'{', '}'});  // nobody listens (what reaches clients: test_live_server.cpp)
   EXPECT_THROW(a.addChannel(jsonChannel("/x", "polyloc.Health")), std::logic_error);
 
   ServerConfig same = cfg;

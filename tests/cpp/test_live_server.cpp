@@ -319,3 +319,28 @@ TEST(FoxgloveServerLimits, AFailedAcceptPausesInsteadOfSpinning) {
 }
 
 }  // namespace
+
+namespace {
+
+// A client that subscribed to nothing gets nothing; one that unsubscribed gets nothing more.
+TEST(FoxgloveServerLimits, NothingGoesToAClientThatDidNotSubscribe) {
+  FoxgloveServer s(anyPort());
+  const uint32_t ch = s.addChannel(channel("/pose", false));
+  s.start();
+  RawClient c(s.port());
+  ASSERT_TRUE(c.open());
+  s.publish(ch, 1, Bytes{'{', '}'});
+  EXPECT_TRUE(c.drain(300).empty());
+  ASSERT_TRUE(c.sendText(subscribeAll(4, 1, ch).dump()));
+  ASSERT_TRUE(eventually([&] { return s.subscribed(ch); }));
+  s.publish(ch, 2, Bytes{'{', '}'});
+  EXPECT_EQ(c.next().opcode, 2);
+  ASSERT_TRUE(c.sendText(json{{"op", "unsubscribe"}, {"subscriptionIds", {4}}}.dump()));
+  ASSERT_TRUE(eventually([&] { return !s.subscribed(ch); }));
+  s.publish(ch, 3, Bytes{'{', '}'});
+  EXPECT_TRUE(c.drain(300).empty());
+  EXPECT_EQ(s.stats().messages_sent, 1u);
+  EXPECT_EQ(s.stats().messages_dropped, 0u);
+}
+
+}  // namespace

@@ -6,7 +6,6 @@
 #include <polyloc/mcl/scan_screen.hpp>
 
 #include <gtest/gtest.h>
-#include <tbb/task_arena.h>
 
 using namespace polyloc;
 using namespace polyloc::test;
@@ -74,20 +73,4 @@ TEST(ScanScreen, NoLevelBeamNoCandidate) {
   ScanScreenConfig off;
   off.keep = 0;
   EXPECT_TRUE(ScanScreen(room.mesh, 0.2, off).best(room.rig, std::span(&level, 1), room.positions, 0.5, 0.35).empty());
-}
-
-TEST(ScanScreen, SameCandidatesOnOneAndTwoThreads) {
-  Room room;
-  const ScanScreen screen(room.mesh, 0.2, ScanScreenConfig{});
-  const std::vector<float> r = simulateScan(room.caster, room.rig.sensors[0], Pose::planar(1.2, -0.8, 2.5), 0.01, 1);
-  const RefineScan scan{0, r, Pose()};
-  std::vector<Pose> one, two;
-  tbb::task_arena(1).execute([&] { one = screen.best(room.rig, std::span(&scan, 1), room.positions, 0.5, 0.35); });
-  tbb::task_arena(2).execute([&] { two = screen.best(room.rig, std::span(&scan, 1), room.positions, 0.5, 0.35); });
-  ASSERT_EQ(one.size(), two.size());
-  for (size_t i = 0; i < one.size(); ++i) {
-    EXPECT_EQ(one[i].x(), two[i].x()) << i;
-    EXPECT_EQ(one[i].y(), two[i].y()) << i;
-    EXPECT_EQ(one[i].yaw(), two[i].yaw()) << i;
-  }
 }

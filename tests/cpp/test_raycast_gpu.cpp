@@ -109,7 +109,10 @@ TEST(GpuBvh, HoldsEveryTriangleOnceInsideItsBoxes) {
   ASSERT_EQ(bvh.triangle.size(), with_area);
   EXPECT_EQ(std::set<uint32_t>(bvh.triangle.begin(), bvh.triangle.end()).size(), with_area);
   EXPECT_EQ(bvh.vertices.size(), 12 * with_area);
-  EXPECT_LE(bvh.depth, 48);
+  std::printf("[gpu] BVH of the lab: %zu triangles, depth %d\n", with_area, int(bvh.depth));
+  // Measured 20 (binned SAH, leaves of 4: log2(6758 / 4) = 11 at best); 48 was the builder's own
+  // cap, a bound that could not fail. A 1.5x deeper tree (30) fails.
+  EXPECT_LE(bvh.depth, 24);
   // Every triangle lies in the box its parent keeps for its leaf, every inner child's boxes in
   // the box its parent keeps for it; every triangle is reached once.
   std::vector<int> reached(bvh.triangle.size(), 0);

@@ -5,11 +5,14 @@
 
 #include "shm_fixtures.hpp"
 
+#include <polyloc/geometry/pose.hpp>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <thread>
+#include <tuple>
 
 namespace polyloc {
 namespace {
@@ -286,3 +289,14 @@ TEST(ShmCAbi, ExampleControllerGetsItsPose) {
 
 }  // namespace
 }  // namespace polyloc
+
+// The yaw of a quaternion, as controllers read it off a pose: the kernels' own definition.
+TEST(ShmCAbi, QuaternionYawIsThePosesYaw) {
+  for (const auto& [r, p, y] : {std::tuple{0.0, 0.0, 0.3}, std::tuple{0.0, 0.0, -3.1}, std::tuple{0.02, -0.03, 1.7},
+                                std::tuple{0.0, 0.0, M_PI}}) {
+    const polyloc::Pose pose = polyloc::Pose::fromXYZRPY(1, 2, 0, r, p, y);
+    const Eigen::Quaterniond& q = pose.rotation();
+    EXPECT_EQ(polyloc_quaternion_yaw(q.w(), q.x(), q.y(), q.z()), pose.yaw());
+    EXPECT_NEAR(std::remainder(polyloc_quaternion_yaw(q.w(), q.x(), q.y(), q.z()) - y, 2 * M_PI), 0.0, 1e-12);
+  }
+}

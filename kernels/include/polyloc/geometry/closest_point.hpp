@@ -8,5 +8,7 @@ namespace polyloc {
 
 Eigen::Vector3f closestPointOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
                                        const Eigen::Vector3f& b, const Eigen::Vector3f& c);
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 }  // namespace polyloc

@@ -4,9 +4,17 @@
 #pragma once
 
 #include <Eigen/Core>
+
+#include <cmath>
 #include <Eigen/Geometry>
 
 namespace polyloc {
+
+// Yaw (rad) of the unit quaternion (w, x, y, z): the rotation about z of R = Rz Ry Rx, as
+// tf2::getYaw. One place for it: Pose::yaw, particle sets, the C client.
+inline double yawOfQuaternion(double w, double x, double y, double z) {
+  return std::atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+}
 
 class Pose {
  public:
