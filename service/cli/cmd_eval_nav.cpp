@@ -256,8 +256,7 @@ void run(const Args& a) {
       if (!tracker.settling()) {
         tracker.abort(loop.nowS(), "polynav ended");
         break;
-      }
-      loop.controllerGone();
+      }  // else the loop stops waiting for it (controller_alive)
     }
     loop.step();
     const DriveSim& d = loop.drive();

@@ -51,10 +51,8 @@ class DriveLoop {
   std::function<void(const polyloc_command&, double t)> on_command;
   // Takes the commands written so far (e.g. the controller's last stop after it ended).
   void readCommands();
-  // The controller ended: steps no longer wait for its answers (the base runs on its last
-  // command and its watchdog), nor count them late.
-  void controllerGone() { controller_gone_ = true; }
-  // When set: asked while waiting for a command; false ends the wait (controllerGone()).
+  // When set: asked while waiting for a command. Once false, steps no longer wait for the
+  // controller's answers (the base runs on its last command and its watchdog), nor count them late.
   std::function<bool()> controller_alive;
 
   const DriveSim& drive() const { return *drive_; }
