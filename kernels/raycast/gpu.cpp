@@ -4,6 +4,7 @@
 #include <polyloc/map/coincident_faces.hpp>
 #include <polyloc/raycast/embree.hpp>
 
+#include "../gpu/bindings.hpp"
 #include "gpu_shaders.hpp"  // generated from gpu/shaders/*.glsl (kernels/CMakeLists.txt)
 
 #include <fmt/core.h>
@@ -18,7 +19,7 @@
 namespace polyloc {
 namespace {
 
-constexpr uint32_t kGroup = 64;  // local_size_x of every program
+using namespace gpu_bindings;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 // Beyond this a float ray cannot be traced meaningfully (Embree's limit, raycast/embree.cpp).
 constexpr float kRayLimit = 1e17f;
@@ -27,7 +28,7 @@ bool sane(float x) { return std::abs(x) <= kRayLimit; }  // false for NaN and in
 bool sane(const Eigen::Vector3f& v) { return sane(v.x()) && sane(v.y()) && sane(v.z()); }
 
 std::string source(const char* defines, const char* body) {
-  return std::string("#version 310 es\n") + defines + shaders::kBvhTrace + body;
+  return std::string("#version 310 es\n") + glslDefines() + defines + shaders::kBvhTrace + body;
 }
 
 float asFloat(uint32_t bits) {
@@ -67,7 +68,7 @@ struct GpuCaster::Impl {
 
   // n invocations of the program in use: a second grid dimension past the x limit.
   void dispatch(const ComputeProgram& p, size_t n) const {
-    const size_t groups = (n + kGroup - 1) / kGroup;
+    const size_t groups = (n + kGroupSize - 1) / kGroupSize;
     const size_t gx = std::min(groups, size_t(gpu->info().max_work_group_count[0]));
     p.dispatch(uint32_t(gx), uint32_t((groups + gx - 1) / gx));
   }
@@ -79,7 +80,7 @@ struct GpuCaster::Impl {
     p.set("backface_is_solid", uint32_t(o.backface_is_solid));
     p.set("miss_is_max_range", uint32_t(o.miss_is_max_range));
     p.set("tie_tol", tie_tol);
-    nodes->bind(0), verts->bind(1), ids->bind(2), in0->bind(3), in1->bind(4), hits->bind(5);
+    nodes->bind(kNodes), verts->bind(kVerts), ids->bind(kTriIds), in0->bind(kIn0), in1->bind(kIn1), hits->bind(kHits);
   }
 
   // Beams as the scan program reads them: (d, t0), (t1, 0, 0, 0), windows merged with the limits.
@@ -193,7 +194,7 @@ GpuCaster::GpuCaster(const Mesh& mesh, const GpuCasterOptions& options) : impl_(
   m.scans = std::make_unique<ComputeProgram>(*m.gpu, "raycast scans", source("#define SCANS 1\n", shaders::kRaycast));
   m.rays = std::make_unique<ComputeProgram>(*m.gpu, "raycast rays", source("#define SCANS 0\n", shaders::kRaycast));
   m.free = std::make_unique<ComputeProgram>(*m.gpu, "free space", source("", shaders::kFree));
-  m.score = std::make_unique<ComputeProgram>(*m.gpu, "beam score", std::string("#version 310 es\nprecision highp float;\nprecision highp int;\n") + shaders::kScore);
+  m.score = std::make_unique<ComputeProgram>(*m.gpu, "beam score", std::string("#version 310 es\nprecision highp float;\nprecision highp int;\n") + glslDefines() + shaders::kScore);
   m.ensure(m.nodes, m.bvh.nodes.size() * sizeof(GpuBvhNode));
   m.nodes->upload(m.bvh.nodes.data(), m.bvh.nodes.size() * sizeof(GpuBvhNode));
   m.ensure(m.verts, m.bvh.vertices.size() * sizeof(float));
@@ -333,7 +334,7 @@ void GpuCaster::queryFree(std::span<const Eigen::Vector3f> points, float clearan
           m.free->use();
           m.free->set("count", uint32_t(n));
           m.free->set("clearance", std::max(0.f, clearance));
-          m.nodes->bind(0), m.verts->bind(1), m.ids->bind(2), m.in0->bind(3), m.hits->bind(5);
+          m.nodes->bind(kNodes), m.verts->bind(kVerts), m.ids->bind(kTriIds), m.in0->bind(kIn0), m.hits->bind(kHits);
           m.dispatch(*m.free, n);
           f.resize(n);
           m.hits->download(f.data(), n * 4);
@@ -382,7 +383,7 @@ void GpuCaster::scoreScans(std::span<const Pose> poses, const BeamSet& beams, co
           m.score->set("table_size", uint32_t(s.table_size));
           m.score->set("inv_step", s.inv_step);
           m.score->set("p_rand", s.p_rand);
-          m.hits->bind(5), m.terms->bind(6), m.tables->bind(7), m.sums->bind(8);
+          m.hits->bind(kHits), m.terms->bind(kTerms), m.tables->bind(kTables), m.sums->bind(kSums);
           m.dispatch(*m.score, np);
           f.resize(np);
           m.sums->download(f.data(), np * sizeof(float));

@@ -2,7 +2,8 @@
 # polyloc bench bsp as a user runs it: one JSON object with both backends' figures; the BSP agrees
 # with Embree on every ray as docs/benchmarks.md claims, the grids within 1.5x of their claimed
 # errors; an open map is refused with a message that names it.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 # The runs of docs/benchmarks.md "The thesis's Table 6.1" (100,000 rays and points, seed 1, one
 # timed repetition instead of three: the errors do not depend on it; about 1 s each).

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # polyloc bench ipc as a user runs it (few messages): one JSON object with every transport's
 # percentiles, all positive, and the ratio the target is about.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1
 out=$("$polyloc" bench ipc --messages 300 --warmup 20 --period-us 100 --json)
 echo "$out"

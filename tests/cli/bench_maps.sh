@@ -5,7 +5,8 @@
 # median and p99 0, i.e. within 1 mm; 3D median within 1 mm), the other backends' range errors
 # within 1.5x of the claimed figures; a Markdown table; MCL with the 2D grid tracks the lab tour;
 # errors that name the bad input.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # polyloc bench raycast as a user runs it: one JSON object with the documented keys.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 out=$("$polyloc" bench raycast --map "$src/maps/office.obj" --poses 200 --beams 32 --threads 2 --height 0.3 --repeat 1 --json)
 echo "$out"

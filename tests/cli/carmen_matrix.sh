@@ -7,7 +7,8 @@
 # regression fails), no relocalisation where there was none; on the proud-walled map with 10 %
 # drift no frame published as tracking is beyond 0.5 m of the truth and no jump goes unannounced;
 # the strips picture shows one panel per case. Usage: carmen_matrix.sh POLYLOC SRC
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

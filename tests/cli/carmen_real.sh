@@ -5,7 +5,8 @@
 # takes the scanner from the log (no rig in the config), starts from the first ground-truth pose,
 # writes times relative to the start (never negative), and gives byte-identical outputs on 1 and
 # 2 threads and on a second run; a rig sensor whose geometry differs from the log's is named.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 data="$src/../shared/data/carmen"
 [ -d "$data" ] || { echo "missing $data (the shared real logs)" >&2; exit 1; }
@@ -82,7 +83,9 @@ rig:
   sensors:
     - {name: front_laser, preset: sick_lms200, mount: {x: 0, y: 0, z: 0.3, roll: 0, pitch: 0, yaw: 0}, spec: {fov: 179, resolution: 1, range_max: 80}}
 YAML
-"$polyloc" localize --input "$aces" --config "$tmp/centred.yaml" --map "$tmp/map.obj" --json >"$tmp/c.json" 2>"$tmp/c.err"
+# With no scan used localize is an error (exit 1), after its counts.
+rc=0; "$polyloc" localize --input "$aces" --config "$tmp/centred.yaml" --map "$tmp/map.obj" --json >"$tmp/c.json" 2>"$tmp/c.err" || rc=$?
+[ "$rc" = 1 ] || { echo "localize with every scan rejected exited $rc, not 1" >&2; cat "$tmp/c.err" >&2; exit 1; }
 grep -q "/front_laser: 180 beams, -90.00..89.00 deg, step 1.000 deg recorded, sensor 'front_laser' has 180 beams, -89.50..89.50 deg" "$tmp/c.err"
 python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["counters"]; assert c["scans_wrong_geometry"] == 440 and c["scans_rejected"] == 440, c' "$tmp/c.json"
 sed -i 's/preset: sick_lms200/preset: recorded/; s/, spec: {fov: 179, resolution: 1, range_max: 80}//' "$tmp/centred.yaml"

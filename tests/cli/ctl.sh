@@ -3,7 +3,8 @@
 # errors (exit 1) that say what was wrong. The replies of a server are tested in
 # tests/cpp/test_protocol_cli.cpp (in-process fake) and end to end with polylocd.
 # Usage: bash ctl.sh <path-to-polyloc> <source-dir>
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1
 fail() { echo "FAIL: $*" >&2; exit 1; }
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # What `make run` runs: map summary, ranges per scan, and a PNG with the rays drawn (png_check).
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

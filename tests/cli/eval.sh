@@ -3,7 +3,8 @@
 # fields; the trials succeed as docs/benchmarks.md says they do (global: every start within 2
 # rounds, the median and worst of 50 are 1 and 2; kidnap: recovered), to a few millimetres; bad
 # options are errors that name the option. The trials are seeded: the same answer every run.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 PY=$(command -v python3)

@@ -8,7 +8,8 @@
 # jumps than measured, the global trials that succeeded at most one fewer (or 1.5x the failures);
 # on the logs marked so, the run twice gives the same estimates; the PNG is a picture with the paths and the global trials
 # drawn (png_check). Usage: eval_carmen.sh POLYLOC SRC LOG
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2 name=$3
 log="$src/../shared/data/carmen/$name-corrected.log.gz"
 [ -f "$log" ] || { echo "missing $log (the shared real logs)" >&2; exit 1; }

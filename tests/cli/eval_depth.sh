@@ -1,7 +1,8 @@
 #!/bin/bash
 # polyloc eval depth: a short lab tour; the JSON has the documented fields and the defaults meet
 # the bounds; a standalone depth_filter file is read; bad keys are errors naming the key.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 PY=$(command -v python3)

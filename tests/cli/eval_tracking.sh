@@ -2,7 +2,8 @@
 # polyloc eval tracking: a short run of the crowd scenario; the JSON has the documented fields and
 # sane values, the plot is written, --tracking replaces the config's section, errors name the
 # option or the key.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 PY=$(command -v python3)

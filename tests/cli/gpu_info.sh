@@ -1,7 +1,8 @@
 #!/bin/bash
 # polyloc gpu info: the headless context reports an OpenGL ES >= 3.1 renderer and compute limits
 # (llvmpipe where no GPU is); a platform list with nothing usable fails naming what was tried.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 out=$("$POLYLOC" gpu info --json)
 python3 - "$out" <<'PY'

@@ -4,7 +4,8 @@
 # names the renderer; bench mcl --caster gpu tracks; polyloc localize with mcl.caster: gpu on 10 s
 # of the office patrol within 1.5x of the Embree filter's accuracy; a GPU that cannot be had is an
 # error naming it, or with mcl.gpu_fallback: embree a warning and the Embree filter's result.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -2,7 +2,8 @@
 # polyloc info, as a user types it: a small CARMEN log written here (text and --json report),
 # and the error path for a missing file.
 # Usage: bash info.sh <path-to-polyloc> <source-dir>
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

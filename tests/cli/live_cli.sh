@@ -3,7 +3,8 @@
 # scans and the top view while it runs, paced to the recording, and gives the same trajectory as
 # without a viewer; `polyloc play --live` serves polylocd's poses beside the truth; a port in use
 # is an error naming it for the CLI, and only a logged error for polylocd, which localises on.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 polylocd=$(dirname "$polyloc")/polylocd
 tmp=$(mktemp -d)

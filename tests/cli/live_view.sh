@@ -8,7 +8,8 @@
 # in headless Chromium (check_live_page.mjs). polylocd takes every frame unbroken and stops
 # cleanly on SIGINT (what viewers cost it in latency and frames: bench/live_viewers.sh).
 # Usage: bash live_view.sh <path-to-polyloc> <source-dir>   (polylocd is beside polyloc)
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 POLYLOCD=$(dirname "$POLYLOC")/polylocd

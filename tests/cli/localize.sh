@@ -4,7 +4,8 @@
 # of docs/benchmarks.md), the TUM, CSV and PNG outputs (png_check: truth and estimate drawn); a
 # CARMEN log with bad scans (rejected, counted, no crash), also on a rig without scanners; a
 # missing input (exit 1 naming the path). ramp_6dof's figures: localize_ramp.sh.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

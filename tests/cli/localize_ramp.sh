@@ -4,7 +4,8 @@
 # 6-DoF refinement): every refined figure of its row within 1.5x (ATE 0.34 cm, p95 0.66 cm /
 # 0.43 deg, z RMSE 0.05 cm, roll/pitch RMSE 0.030 deg), tracking on every frame, no
 # relocalisation. About 20 s of CPU (2-3 s simulating, the rest localising on one core).
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -2,7 +2,8 @@
 # polyloc map extrude: a small map_server grid (PGM + YAML written here) to a closed OBJ that
 # `polyloc map info` accepts; errors name the file and key. Then --carmen: a corrected CARMEN log
 # of a 4 x 3 m room (FLASER lines with known laser poses, written here) to a grid and an OBJ.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

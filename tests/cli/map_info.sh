@@ -2,7 +2,8 @@
 # polyloc map info, as a user types it: the error path for a missing file, the text report and
 # --json on a small OBJ written here, and the bundled lab map if it is there.
 # Usage: bash map_info.sh <path-to-polyloc> <source-dir>
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1
 source_dir=$2
 tmp=$(mktemp -d)

@@ -3,7 +3,8 @@
 # maps/config/lab.yaml) as a map_server grid: files written and readable (PGM headers, YAML keys,
 # polyloc's own grid loader via map extrude), door centres free, stairwell occupied and danger,
 # a lower robot sees fewer obstacles; errors for bad options and for overwriting the inputs.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1
 src=$2
 tmp=$(mktemp -d)

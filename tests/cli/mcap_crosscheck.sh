@@ -5,7 +5,8 @@
 # (versions pinned in tests/js/package-lock.json, installed with npm ci when missing or stale:
 # npm_deps.sh).
 # Usage: bash mcap_crosscheck.sh <path-to-polyloc> <source-dir> <path-to-mcap_fixture_writer>
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 source_dir=$2
 writer=${3:?usage: mcap_crosscheck.sh <polyloc> <source-dir> <mcap_fixture_writer>}
 js="$source_dir/tests/js"

@@ -8,7 +8,8 @@
 #  - play --drive with polylocd and polynav started by hand: the robot moves on the commands,
 #    the summary counts them;
 #  - errors: --drive without a scenario, polynav with an unknown goal or without polylocd.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 BIN=$(dirname "$POLYLOC")

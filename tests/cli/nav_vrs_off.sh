@@ -4,7 +4,8 @@
 # (--vrs off: what a 2D controller sees, on a map sliced at their height). With the VRS both are
 # reached without collision; without it the robot drives into a chair seat the level scanners
 # see only the legs of, and the collision is named with its place.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 PY=/usr/bin/python3

@@ -5,7 +5,8 @@
 # scan's middle angle; the map YAML points at the same PGM with a whole-cell origin; the
 # pf-localization config has 3,000 fixed particles, a start box around the first truth pose and
 # the shipped config's sections. Usage: peer_mrpt_convert.sh POLYLOC SRC
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 pydir="$(dirname "$polyloc")/../python"
 [ -d "$pydir/polyloc" ] || { echo "skipped: no Python module in $pydir (POLYLOC_BUILD_PYTHON=OFF?)"; exit 0; }

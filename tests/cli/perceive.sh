@@ -4,7 +4,8 @@
 # against the simulator's ground-truth topics) within 1.5x of the documented one, the output MCAP
 # holds /vrs, /vrs/localization and /tracks, the snapshots show the VRS (png_check); bad arguments
 # name what is wrong.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 PY=$(command -v python3)

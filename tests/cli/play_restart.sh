@@ -4,7 +4,8 @@
 # readers move to the new segment with the feed, so that commands flow again (they stayed on the
 # dead segment and the loop stalled while play printed "re-attached").
 # Usage: bash play_restart.sh <path-to-polyloc> <source-dir>
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 BIN=$(dirname "$POLYLOC")

@@ -3,7 +3,8 @@
 # line), the daemon starts, `polyloc play` feeds 12 s of the lab tour simulated live at real
 # time, the poses that come back follow the ground truth, no frame is dropped, SIGTERM
 # stops the daemon cleanly; play without a daemon says which segment is missing.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
 SRC=$2
 POLYLOCD=$(dirname "$POLYLOC")/polylocd

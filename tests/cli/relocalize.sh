@@ -4,7 +4,8 @@
 # is 1; the same two with --jobs 2: exit 0 and the same trajectories bit for bit (counter-based
 # random numbers); every output (TUM, CSV with covariance and ESS, PNG, JSON summaries); the
 # accuracy of each run within 1.5x of the lab_tour figures of docs/benchmarks.md.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -5,7 +5,8 @@
 # summary that says which rank ran what. Then whole recordings with one unreadable among them:
 # the rank that ran it reports it, rank 0's summary lists it as missing, the others are written,
 # the exit status is not 0. Added by tests/CMakeLists.txt only with POLYLOC_MPI.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2 mpirun=${3:-mpirun}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

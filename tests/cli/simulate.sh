@@ -2,7 +2,8 @@
 # polyloc simulate, as a user types it: 10 s of the lab tour as MCAP with --json (keys, real-time
 # factor > 1), the TUM ground truth and the PNG; the same seed gives the same bytes; a broken
 # scenario gives an error naming file, line and key.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

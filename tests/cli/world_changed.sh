@@ -5,7 +5,8 @@
 # patrol within 1.5x of the figures docs/benchmarks.md gives for it ("Tracking accuracy", world
 # differing from the map); the error must also stay above the exact-world figure, or the world
 # has silently become the map again.
-set -euo pipefail
+set -Eeuo pipefail
+trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

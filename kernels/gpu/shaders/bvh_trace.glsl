@@ -10,9 +10,9 @@ struct Node {  // both children's boxes; w: the children's references (gpu/bvh.h
   vec4 rmin;
   vec4 rmax;
 };
-layout(std430, binding = 0) readonly buffer Nodes { Node nodes[]; };
-layout(std430, binding = 1) readonly buffer Verts { vec4 verts[]; };  // 3 a triangle, leaf order
-layout(std430, binding = 2) readonly buffer TriIds { uint tri_id[]; };  // Mesh index, leaf order
+layout(std430, binding = BIND_NODES) readonly buffer Nodes { Node nodes[]; };
+layout(std430, binding = BIND_VERTS) readonly buffer Verts { vec4 verts[]; };  // 3 a triangle, leaf order
+layout(std430, binding = BIND_TRI_IDS) readonly buffer TriIds { uint tri_id[]; };  // Mesh index, leaf order
 
 const uint kNoHit = 0xFFFFFFFFu;
 const uint kInfBits = 0x7F800000u;

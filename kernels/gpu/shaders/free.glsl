@@ -1,10 +1,10 @@
 // Free-space queries, one invocation a point: inside a solid when the first surface met is a
 // back face for most of three irregular directions (Embree's vote, raycast/embree.cpp), and
 // clear when no triangle lies nearer than the clearance.
-layout(local_size_x = 64) in;
+layout(local_size_x = GROUP_SIZE) in;
 
-layout(std430, binding = 3) readonly buffer Points { vec4 point[]; };
-layout(std430, binding = 5) writeonly buffer Free { uint free_out[]; };
+layout(std430, binding = BIND_IN0) readonly buffer Points { vec4 point[]; };
+layout(std430, binding = BIND_HITS) writeonly buffer Free { uint free_out[]; };
 
 uniform uint count;
 uniform float clearance;

@@ -1,15 +1,15 @@
 // One invocation a ray. SCANS: poses x beams (result p * beams + b); else explicit rays.
-layout(local_size_x = 64) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 #if SCANS
-layout(std430, binding = 3) readonly buffer Poses { vec4 pose[]; };  // 3 rows (R | t) a pose
-layout(std430, binding = 4) readonly buffer Beams { vec4 beam[]; };  // 2 a beam: (d, t0), (t1, 0, 0, 0)
+layout(std430, binding = BIND_IN0) readonly buffer Poses { vec4 pose[]; };  // 3 rows (R | t) a pose
+layout(std430, binding = BIND_IN1) readonly buffer Beams { vec4 beam[]; };  // 2 a beam: (d, t0), (t1, 0, 0, 0)
 uniform uint beams;
 #else
-layout(std430, binding = 3) readonly buffer Origins { vec4 ray_o[]; };  // (o, t0)
-layout(std430, binding = 4) readonly buffer Dirs { vec4 ray_d[]; };     // (d, t1)
+layout(std430, binding = BIND_IN0) readonly buffer Origins { vec4 ray_o[]; };  // (o, t0)
+layout(std430, binding = BIND_IN1) readonly buffer Dirs { vec4 ray_d[]; };     // (d, t1)
 #endif
-layout(std430, binding = 5) writeonly buffer Hits { uvec2 hit[]; };  // range bits, Mesh triangle
+layout(std430, binding = BIND_HITS) writeonly buffer Hits { uvec2 hit[]; };  // range bits, Mesh triangle
 
 uniform uint count;  // rays in this batch
 uniform uint backface_is_solid;

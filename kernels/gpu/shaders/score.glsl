@@ -1,11 +1,11 @@
 // The beam model per pose (raycast/scan_score.hpp, scoreHits): one invocation sums the
 // log-densities of its pose's beams in beam order, from the ranges the ray pass left on the GPU.
-layout(local_size_x = 64) in;
+layout(local_size_x = GROUP_SIZE) in;
 
-layout(std430, binding = 5) readonly buffer Hits { uvec2 hit[]; };
-layout(std430, binding = 6) readonly buffer Terms { vec4 term[]; };  // 2 a beam: (z, miss, short, hit_scale), (half_inv_var, 0, 0, 0)
-layout(std430, binding = 7) readonly buffer Tables { float table[]; };  // hit density, then its log with p_rand
-layout(std430, binding = 8) writeonly buffer Sums { float sums[]; };
+layout(std430, binding = BIND_HITS) readonly buffer Hits { uvec2 hit[]; };
+layout(std430, binding = BIND_TERMS) readonly buffer Terms { vec4 term[]; };  // 2 a beam: (z, miss, short, hit_scale), (half_inv_var, 0, 0, 0)
+layout(std430, binding = BIND_TABLES) readonly buffer Tables { float table[]; };  // hit density, then its log with p_rand
+layout(std430, binding = BIND_SUMS) writeonly buffer Sums { float sums[]; };
 
 uniform uint poses;
 uniform uint beams;
