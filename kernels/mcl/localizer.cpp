@@ -661,6 +661,8 @@ void Localizer::addOdometry(int64_t stamp, const Pose& odom_T_base) {
   }
 }
 
+Pose Localizer::odometryAt(int64_t stamp_ns) const { return impl_->odometry.at(stamp_ns); }
+
 bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ranges) {
   Impl& d = *impl_;
   ++d.counters.scans;

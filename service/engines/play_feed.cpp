@@ -209,7 +209,7 @@ nlohmann::json PlayFeed::resultJson() const {
       // Inputs are the first channels of the table, in order (docs/interface.md).
       inputs[input_names_.at(i)] = {{"taken", h.taken}, {"overruns", h.overruns}, {"nan", h.rejected_nan},
                                             {"size", h.rejected_size}, {"stale", h.rejected_stale},
-                                            {"future", h.rejected_future}, {"silent", bool(h.silent)},
+                                            {"future", h.rejected_future}, {"silent", bool(h.silent)}, {"extrapolated", h.extrapolated},
                                             {"map_fit", h.map_fit_permille == 0
                                                             ? nlohmann::json(nullptr) : nlohmann::json(h.map_fit_permille / 1000.0)}};
     }

@@ -238,7 +238,8 @@ Bytes healthJson(const polyloc_health& h, const std::vector<std::string>& inputs
                   {"overruns", x.overruns},
                   {"last_stamp_ns", x.last_stamp_ns},
                   {"silent", x.silent != 0},
-                  {"map_fit_permille", x.map_fit_permille}});
+                  {"map_fit_permille", x.map_fit_permille},
+                  {"extrapolated", x.extrapolated}});
   }
   json viewers{{"clients", s.clients},           {"connections", s.connections},
                {"refused", s.refused},           {"messages_sent", s.messages_sent},

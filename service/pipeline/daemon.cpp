@@ -2,7 +2,7 @@
 
 #include "pipeline/pipeline.hpp"
 #include "pipeline/shm_payloads.hpp"
-#include "pipeline/source_clock.hpp"
+#include "pipeline/input_gate.hpp"
 #include "shm/channel.hpp"
 #include "shm/validate.hpp"
 
@@ -20,22 +20,6 @@
 #include <ctime>
 
 namespace polyloc::pipeline {
-namespace {
-
-int64_t nowNs(clockid_t clock) {
-  timespec ts{};
-  clock_gettime(clock, &ts);
-  return int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-// A frame read in one pass over the inputs, before it is dispatched in stamp order.
-struct Taken {
-  int64_t stamp_ns = 0, publish_ns = 0;
-  int input = 0;  // position in ChannelTable::inputs
-  std::vector<uint8_t> payload;
-};
-
-}  // namespace
 
 struct Daemon::Impl final : PipelineSink {
   Daemon& d;
@@ -45,21 +29,16 @@ struct Daemon::Impl final : PipelineSink {
   std::unique_ptr<RayCaster> weigh;  // mcl.caster when not embree
   std::unique_ptr<Pipeline> pipe;
   shm::Segment seg;
-  std::vector<shm::Reader> readers;  // per input, in ChannelTable::inputs order
+  std::unique_ptr<InputGate> gate;
   std::unique_ptr<shm::Writer> w_pose, w_vrs, w_tracks, w_health;
   std::unique_ptr<live::LiveView> live;  // null: no live view (port 0, or its port was taken)
   tbb::task_arena arena;
-  std::vector<polyloc_input_health> health;
-  std::vector<int64_t> last_taken_mono;  // per input: CLOCK_MONOTONIC of the last frame taken
-  std::vector<bool> announced;  // per input: its first frames were logged
-  std::vector<uint64_t> logged;          // per input: rejections logged (rate limit)
-  std::vector<Taken> pass;
   std::vector<double> cycle_ms;          // ring of the last 1000 cycles
   size_t cycle_next = 0;
   uint64_t cycles = 0;
   int64_t current_publish_ns = 0;        // of the input frame being processed (latency)
+  uint64_t jumps = 0;                    // of clock: source
   PipelineCounters earlier;              // outputs of the pipelines a time jump replaced
-  SourceClock clock{d.cfg_.daemon.max_age_ns, d.cfg_.daemon.max_future_ns, d.cfg_.daemon.clock_agree};  // clock: source
   int64_t last_health_ns = 0;
   std::vector<uint8_t> out;              // payload being built
 
@@ -85,17 +64,12 @@ struct Daemon::Impl final : PipelineSink {
     caster = std::make_unique<EmbreeCaster>(map, eo);
     weigh = makeWeighingCaster(map, pc.rig, pc.mcl, d.cfg_.daemon.threads);
     pipe = std::make_unique<Pipeline>(pc, map, *caster, weigh.get());
-    for (int ch : d.table_.inputs) readers.emplace_back(seg, ch, shm::Reader::Start::Next);
+    gate = std::make_unique<InputGate>(seg, d.table_, d.cfg_.daemon, int(pipe->triggerSensor()),
+                                       [this](int64_t from, int64_t to) { timeJumped(from, to); });
     w_pose = std::make_unique<shm::Writer>(seg, d.table_.pose, true);
     w_vrs = std::make_unique<shm::Writer>(seg, d.table_.vrs, true);
     w_tracks = std::make_unique<shm::Writer>(seg, d.table_.tracks, true);
     w_health = std::make_unique<shm::Writer>(seg, d.table_.health, true);
-    const size_t n = d.table_.inputs.size();
-    health.assign(n, polyloc_input_health{});
-    for (auto& h : health) h.silent = 1;  // until the first frame
-    last_taken_mono.assign(n, 0);  // 0: nothing taken yet
-    announced.assign(n, false);
-    logged.assign(n, 0);
     startLive();
   }
 
@@ -115,7 +89,7 @@ struct Daemon::Impl final : PipelineSink {
 
   // --- outputs (PipelineSink) ---
   void onPose(const MclEstimate& e, const Pose& map_T_odom) override {
-    const polyloc_pose p = posePayload(e, map_T_odom, nowNs(CLOCK_MONOTONIC) - current_publish_ns);
+    const polyloc_pose p = posePayload(e, map_T_odom, clockNs(CLOCK_MONOTONIC) - current_publish_ns);
     w_pose->write(&p, sizeof p, e.stamp_ns);
     d.live_->update([&](LiveState::Snapshot& s) { s.pose = p; });
     if (live) live->pose(e, map_T_odom, &pipe->localizer().particles());
@@ -139,25 +113,6 @@ struct Daemon::Impl final : PipelineSink {
     if (live) live->tracks(p);
   }
 
-  // --- inputs ---
-  void reject(int input, uint64_t frame, const shm::Validation& v) {
-    polyloc_input_health& h = health[size_t(input)];
-    switch (v.reject) {
-      case shm::Reject::Size: ++h.rejected_size; break;
-      case shm::Reject::NaN: ++h.rejected_nan; break;
-      case shm::Reject::Stale: ++h.rejected_stale; break;
-      case shm::Reject::Future: ++h.rejected_future; break;
-      case shm::Reject::None: return;
-    }
-    // The first few of each input, then every 1000th: a flood of bad frames must not flood the log.
-    const uint64_t k = logged[size_t(input)]++;
-    if (k < 5 || k % 1000 == 0) spdlog::warn("rejected ({}): {}{}", shm::toString(v.reject), v.why, k >= 5 ? " (and more)" : "");
-  }
-
-  int64_t clockNow() const {
-    return d.cfg_.daemon.source_clock && clock.started() ? clock.now() : nowNs(CLOCK_REALTIME);
-  }
-
   // Since the start, over every pipeline a time jump replaced.
   PipelineCounters counters() const {
     PipelineCounters c = pipe->counters();
@@ -165,96 +120,14 @@ struct Daemon::Impl final : PipelineSink {
     return c;
   }
 
-  // clock: source moved to another time (SourceClock): what was held of the old time goes.
+  // clock: source moved to another time (SourceClock): the gate dropped what it held of the old
+  // time; the pipeline starts again.
   void timeJumped(int64_t from, int64_t to) {
     spdlog::warn("clock: source: the inputs agree on a time {:.3f} s {} the clock's; localisation starts again "
                  "(jump {}; a recording restarted, or a frame stamped wrong was the first)",
-                 std::abs(double(static_cast<__int128>(to) - from)) * 1e-9, to > from ? "after" : "before", clock.jumps());
-    for (auto& h : health) h.last_stamp_ns = 0;
-    pass.clear();
+                 std::abs(double(static_cast<__int128>(to) - from)) * 1e-9, to > from ? "after" : "before", ++jumps);
     earlier = counters();  // health's counters never go back
     pipe = std::make_unique<Pipeline>(d.cfg_.polyloc, map, *caster, weigh.get());
-  }
-
-  // The stamp rules of clock: source (SourceClock); true when the frame is taken.
-  bool admit(size_t i, int64_t stamp) {
-    using V = SourceClock::Verdict;
-    const int64_t before = clock.now();
-    const V v = clock.judge(i, stamp, health[i].last_stamp_ns);
-    if (v == V::Take) {
-      clock.taken(stamp);
-      return true;
-    }
-    shm::Validation why;
-    why.reject = v == V::Future ? shm::Reject::Future : shm::Reject::Stale;
-    if (v == V::Repeat) {
-      why.why = fmt::format("{} frame stamped {} ns: not after the last frame's {}", desc(int(i)).name, stamp, health[i].last_stamp_ns);
-      reject(int(i), 0, why);
-      return false;
-    }
-    why.why = fmt::format("{} frame stamped {} ns: {:.3f} s {} the source clock ({} ns; max_{} {:.3f} s)", desc(int(i)).name, stamp,
-                          std::abs(double(static_cast<__int128>(stamp) - before)) * 1e-9, v == V::Stale ? "before" : "after",
-                          before, v == V::Stale ? "age" : "future",
-                          double(v == V::Stale ? d.cfg_.daemon.max_age_ns : d.cfg_.daemon.max_future_ns) * 1e-9);
-    reject(int(i), 0, why);
-    if (clock.refused(i, stamp)) timeJumped(before, clock.now());
-    return false;
-  }
-
-  // Reads every input channel dry; true when something was read.
-  bool readInputs() {
-    pass.clear();
-    bool any = false;
-    // One `now` for the whole pass: with clock: source, a backlog read in one pass must not
-    // make the slower channels' frames stale against the faster ones' newest stamps.
-    const bool source = d.cfg_.daemon.source_clock;
-    const int64_t now = clockNow();
-    clock.beginPass();
-    // What every channel holds at one instant, and no more: a frame published while this pass
-    // reads is newer than all of them (writers publish in stamp order), so the sorted pass never
-    // puts a scan after odometry that came later than it.
-    std::vector<uint64_t> limit(readers.size());
-    for (size_t i = 0; i < readers.size(); ++i) limit[i] = readers[i].available();
-    for (size_t i = 0; i < readers.size(); ++i) {
-      std::vector<uint8_t> buf;
-      for (uint64_t k = 0; k < limit[i]; ++k) {
-        auto f = readers[i].next(buf);
-        if (!f) break;
-        any = true;
-        shm::StampRules rules;
-        rules.now_ns = now;
-        // source: SourceClock judges order too (a time that jumped back is a vote, not a repeat).
-        rules.last_ns = health[i].last_stamp_ns && !source ? health[i].last_stamp_ns : INT64_MIN;
-        rules.max_age_ns = source ? -1 : d.cfg_.daemon.max_age_ns;  // source: SourceClock judges age and future
-        rules.max_future_ns = source ? -1 : d.cfg_.daemon.max_future_ns;
-        const shm::Validation v = shm::validateInput(desc(int(i)), f->frame, buf.data(), buf.size(), rules);
-        if (!v) {
-          reject(int(i), f->frame, v);
-          continue;
-        }
-        int64_t stamp = 0;
-        std::memcpy(&stamp, buf.data(), sizeof stamp);  // every input payload starts with stamp_ns
-        if (source && !admit(i, stamp)) continue;
-        health[i].last_stamp_ns = stamp;
-        last_taken_mono[i] = nowNs(CLOCK_MONOTONIC);
-        pass.push_back({stamp, f->publish_ns, int(i), std::move(buf)});
-        buf = {};
-      }
-      health[i].overruns = readers[i].overruns();
-    }
-    // Stamp order across channels, odometry first at equal stamps: the localiser predicts
-    // with the odometry up to a scan before it weighs the scan; the VRS trigger sensor last: the
-    // VRS then holds every frame of its instant, and a pose that instant gives goes out before it.
-    auto rank = [&](const Taken& t) {
-      const int ch = d.table_.inputs[size_t(t.input)];
-      if (ch == d.table_.odom) return 0;
-      return desc(t.input).sensor == int32_t(pipe->triggerSensor()) ? 2 : 1;
-    };
-    std::stable_sort(pass.begin(), pass.end(), [&](const Taken& a, const Taken& b) {
-      if (a.stamp_ns != b.stamp_ns) return a.stamp_ns < b.stamp_ns;
-      return rank(a) < rank(b);
-    });
-    return any;
   }
 
   void initialise(int64_t stamp) {
@@ -286,7 +159,7 @@ struct Daemon::Impl final : PipelineSink {
     pipe->setVrsEnabled(d.live_->collisionAvoidance());
   }
 
-  void dispatch(const Taken& t) {
+  void dispatch(const InputGate::Frame& t) {
     const polyloc_channel_desc& c = desc(t.input);
     current_publish_ns = t.publish_ns;
     if (!pipe->initialised()) initialise(t.stamp_ns);
@@ -317,8 +190,7 @@ struct Daemon::Impl final : PipelineSink {
       }
       default: ok = false;
     }
-    if (ok) ++health[size_t(t.input)].taken;
-    else ++health[size_t(t.input)].rejected_size;
+    gate->dispatched(t.input, ok);
   }
 
   // Raw scans of the planar scanners for GETSCANRADIALSCANNER (copied under the lock).
@@ -335,11 +207,11 @@ struct Daemon::Impl final : PipelineSink {
   }
 
   void publishHealth(bool force) {
-    const int64_t mono = nowNs(CLOCK_MONOTONIC);
+    const int64_t mono = clockNs(CLOCK_MONOTONIC);
     if (!force && mono - last_health_ns < int64_t(1e9 / d.cfg_.daemon.health_rate_hz)) return;
     last_health_ns = mono;
     polyloc_health h{};
-    h.stamp_ns = nowNs(CLOCK_REALTIME);
+    h.stamp_ns = clockNs(CLOCK_REALTIME);
     h.cycles = cycles;
     const PipelineCounters pc = counters();
     h.poses = pc.poses, h.vrs = pc.vrs, h.tracks = pc.tracks;
@@ -348,22 +220,13 @@ struct Daemon::Impl final : PipelineSink {
       std::sort(c.begin(), c.end());
       h.cycle_p50_ms = c[c.size() / 2], h.cycle_p99_ms = c[std::min(c.size() - 1, c.size() * 99 / 100)];
     }
+    const std::vector<polyloc_input_health>& health = gate->health(mono);
     h.inputs = uint32_t(health.size());
     for (size_t i = 0; i < health.size(); ++i) {
-      // An input that never delivered is silent too (health), but only an input that stops is
-      // worth a warning: at start every input is still coming up.
-      const bool never = last_taken_mono[i] == 0;
-      const bool now_silent = never || mono - last_taken_mono[i] > d.cfg_.daemon.input_timeout_ns;
-      if (now_silent && !health[i].silent && !never)
-        spdlog::warn("input {} silent: no frame for {:.1f} s", desc(int(i)).name, double(mono - last_taken_mono[i]) * 1e-9);
-      else if (!now_silent && health[i].silent)
-        spdlog::info("input {}: {}", desc(int(i)).name, announced[i] ? "frames again" : "first frames");
-      if (!now_silent) announced[i] = true;
-      health[i].silent = now_silent;
       h.input[i] = health[i];
-      if (now_silent) h.flags |= 1u;
+      h.input[i].map_fit_permille = 0;  // not measured
+      if (health[i].silent) h.flags |= 1u;
     }
-    for (size_t i = 0; i < health.size(); ++i) h.input[i].map_fit_permille = 0;  // not measured
     if (pipe->initialised()) {
       const MclEstimate e = pipe->localizer().estimate();
       if (e.status == MclStatus::Lost) h.flags |= 2u;
@@ -382,7 +245,7 @@ struct Daemon::Impl final : PipelineSink {
   void cycle() {
     const auto t0 = std::chrono::steady_clock::now();
     arena.execute([&] {
-      for (const Taken& t : pass) dispatch(t);
+      for (const InputGate::Frame& t : gate->ready()) dispatch(t);
     });
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (cycle_ms.size() < 1000) cycle_ms.push_back(ms);
@@ -415,11 +278,12 @@ void Daemon::run(const std::atomic<bool>& stop) {
                cfg_.polyloc.map.file, m.map.numTriangles());
   while (!stop.load(std::memory_order_relaxed)) {
     const uint32_t seen = __atomic_load_n(&m.seg.header().doorbell, __ATOMIC_ACQUIRE);
-    if (m.readInputs()) {
-      m.cycle();
-    } else {
-      m.takeRequests(m.clockNow());
-      shm::waitDoorbell(m.seg, seen, 20'000'000);  // 20 ms: health and silence checks go on
+    const bool read = m.gate->read();
+    if (!m.gate->ready().empty()) m.cycle();
+    if (!read) {
+      m.takeRequests(m.gate->now());
+      // 20 ms at most: health and silence checks go on, and held frames go when their wait ends.
+      if (const int64_t ns = m.gate->sleepNs(monotonicNs()); ns > 0) shm::waitDoorbell(m.seg, seen, ns);
     }
     m.publishHealth(false);
   }

@@ -1,7 +1,8 @@
-// polylocd's work: the segment with its channel table, one thread that reads every input
-// channel (woken by the segment's doorbell), checks each frame (shm/validate.hpp), feeds the
-// pipeline inside a TBB arena and writes pose, VRS, tracks and health back. Bad frames are
-// rejected, counted per input and reason, logged (rate-limited), never fatal.
+// polylocd's work: the segment with its channel table, one thread that takes the input frames
+// the input gate lets through (pipeline/input_gate.hpp: read, validate, clock, order; woken by the
+// segment's doorbell), feeds the pipeline inside a TBB arena and writes pose, VRS, tracks and
+// health back. Bad frames are rejected, counted per input and reason, logged (rate-limited),
+// never fatal.
 //
 //   Daemon d(loadServiceConfig(file));   // loads the map, builds the caster, creates the segment
 //   d.run(stop_flag);                    // until stop_flag; then the segment says STOPPED

@@ -11,6 +11,7 @@
 //     max_future: 0.1        # s: frames stamped later than now + this are rejected (source: 2 s)
 //     clock_agree: 5         # source: refused frames in a row that move the clock (a jump)
 //     input_timeout: 1.0     # s: an input silent this long is reported (health, log)
+//     odom_wait: 0.05        # s a sensor frame waits for the odometry covering its stamp (0: none)
 //     health_rate: 10        # Hz
 //     init: global           # global | ground_truth-free start pose {x, y, z, yaw, sigma_xy, sigma_yaw}
 //     control: {enabled: true, bind: 127.0.0.1, port: 7410}
@@ -49,6 +50,7 @@ struct DaemonConfig {
   int64_t max_future_ns = 100'000'000;  // 2 s under clock: source when not set
   size_t clock_agree = 5;
   int64_t input_timeout_ns = 1'000'000'000;
+  int64_t odom_wait_ns = 50'000'000;  // then the motion is extrapolated, and counted (extrapolated)
   double health_rate_hz = 10;
   std::optional<InitPose> init;  // nullopt: global localisation
   ControlConfig control;

@@ -38,7 +38,7 @@ std::optional<std::string> Pipeline::checkPose(const Pose& map_T_base, const Eig
 
 bool Pipeline::initPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance, int64_t stamp_ns) {
   if (!loc_ || !loc_->initPose(map_T_base, covariance, stamp_ns)) return false;
-  map_T_odom_ = map_T_base * odom_T_base_.inverse();
+  map_T_odom_ = map_T_base * loc_->odometryAt(stamp_ns).inverse();
   initialised_ = true;
   return true;
 }
@@ -58,15 +58,14 @@ void Pipeline::addOdometry(int64_t stamp_ns, const Pose& odom_T_base) {
   if (!loc_) return;
   ++counters_.odometry;
   loc_->addOdometry(stamp_ns, odom_T_base);
-  if (domain::validPose(odom_T_base)) odom_T_base_ = odom_T_base, have_odom_ = true;
 }
 
-void Pipeline::afterScan(bool updated, PipelineSink& sink) {
+void Pipeline::afterScan(bool updated, int64_t stamp_ns, PipelineSink& sink) {
   if (!updated) return;
   const MclEstimate e = loc_->estimate();
-  // The estimate is at the scan's stamp; the odometry read so far is at most that new (inputs
-  // come in stamp order), so this correction holds until the next update (REP-105).
-  if (domain::validPose(e.pose) && e.status != MclStatus::Initialising) map_T_odom_ = e.pose * odom_T_base_.inverse();
+  // The estimate is at the scan's stamp, so is the odometry it is paired with (odometry newer
+  // than the scan may have come first): this correction holds until the next update (REP-105).
+  if (domain::validPose(e.pose) && e.status != MclStatus::Initialising) map_T_odom_ = e.pose * loc_->odometryAt(stamp_ns).inverse();
   ++counters_.poses;
   sink.onPose(e, map_T_odom_);
 }
@@ -78,7 +77,7 @@ bool Pipeline::addRanges(size_t sensor, int64_t stamp_ns, std::span<const float>
     return false;
   }
   ++counters_.ranges;
-  if (initialised_) afterScan(loc_->addScan(sensor, stamp_ns, ranges), sink);
+  if (initialised_) afterScan(loc_->addScan(sensor, stamp_ns, ranges), stamp_ns, sink);
   perceive(sensor, stamp_ns, ranges, sink);
   return true;
 }
@@ -95,19 +94,19 @@ bool Pipeline::addDepth(size_t sensor, int64_t stamp_ns, const float* depth, con
     scratch_.resize(factor.size());
     for (size_t b = 0; b < factor.size(); ++b)
       scratch_[b] = factor[b] > 0 ? depth[b] / factor[b] : std::numeric_limits<float>::quiet_NaN();
-    afterScan(loc_->addScan(sensor, stamp_ns, scratch_), sink);
+    afterScan(loc_->addScan(sensor, stamp_ns, scratch_), stamp_ns, sink);
   }
   if (!vrs_enabled_) return true;
   const auto& spec = filters_[sensor]->camera();
   filters_[sensor]->apply(DepthFrameView{spec.width, spec.height, depth, amplitude, nullptr}, depth_result_);
   points_.clear();
   for (size_t k = 0; k < depth_result_.x.size(); ++k) points_.emplace_back(depth_result_.x[k], depth_result_.y[k], depth_result_.z[k]);
-  vrs_->addPoints(sensor, stamp_ns, currentPose(), points_);
+  vrs_->addPoints(sensor, stamp_ns, poseAt(stamp_ns), points_);
   return true;
 }
 
 void Pipeline::perceive(size_t sensor, int64_t stamp_ns, std::span<const float> ranges, PipelineSink& sink) {
-  const Pose pose = currentPose();
+  const Pose pose = poseAt(stamp_ns);
   if (vrs_enabled_) vrs_->addFrame(sensor, stamp_ns, pose, ranges);
   const bool level = std::find(level_.begin(), level_.end(), sensor) != level_.end();
   if (level) people_->addScan(sensor, stamp_ns, cfg_.rig.sensors[sensor].worldPose(pose), ranges);

@@ -94,16 +94,18 @@ class Pipeline {
     if (!loc_) throw std::logic_error("Pipeline::localizer: perception-only pipeline has no localiser");
     return *loc_;
   }
-  // Where the robot is now: the last estimate moved on by the odometry since; perception-only:
-  // the pose of setPose, as given (a product with an identity would renormalise it).
-  Pose currentPose() const { return loc_ ? map_T_odom_ * odom_T_base_ : pose_; }
+  // Where the robot was at a stamp: the last estimate moved by the odometry to that stamp (which
+  // may be older than the newest odometry: polylocd gives odometry ahead of the frames it
+  // covers); perception-only: the pose of setPose, as given (a product with an identity would
+  // renormalise it).
+  Pose poseAt(int64_t stamp_ns) const { return loc_ ? map_T_odom_ * loc_->odometryAt(stamp_ns) : pose_; }
   const PipelineCounters& counters() const { return counters_; }
   const VirtualRangeScanner& vrs() const { return *vrs_; }
   const PeopleTracker& people() const { return *people_; }
 
  private:
   void perceive(size_t sensor, int64_t stamp_ns, std::span<const float> ranges, PipelineSink& sink);
-  void afterScan(bool updated, PipelineSink& sink);
+  void afterScan(bool updated, int64_t stamp_ns, PipelineSink& sink);
 
   PolylocConfig cfg_;
   std::unique_ptr<Localizer> loc_;
@@ -116,9 +118,9 @@ class Pipeline {
   DepthFilterResult depth_result_;
   std::vector<float> scratch_;
   std::vector<Eigen::Vector3f> points_;
-  Pose odom_T_base_, map_T_odom_;
+  Pose map_T_odom_;
   Pose pose_;  // perception-only: setPose's
-  bool have_odom_ = false, initialised_ = false, vrs_enabled_ = true;
+  bool initialised_ = false, vrs_enabled_ = true;
   PipelineCounters counters_;
 };
 

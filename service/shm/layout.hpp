@@ -56,7 +56,8 @@ static_assert(offsetof(polyloc_pose, ess) == 416 && offsetof(polyloc_pose, laten
 static_assert(offsetof(polyloc_vrs, angle_min) == 8 && offsetof(polyloc_vrs, count) == 24 && offsetof(polyloc_vrs, ranges) == 32);
 static_assert(sizeof(polyloc_track) == 72 && offsetof(polyloc_track, x) == 8 && offsetof(polyloc_track, covariance) == 40);
 static_assert(sizeof(polyloc_tracks) == 4624 && offsetof(polyloc_tracks, tracks) == 16);
-static_assert(sizeof(polyloc_input_health) == 64 && offsetof(polyloc_input_health, last_stamp_ns) == 48);
-static_assert(sizeof(polyloc_health) == 1600 && offsetof(polyloc_health, inputs) == 56 && offsetof(polyloc_health, input) == 64);
+static_assert(sizeof(polyloc_input_health) == 72 && offsetof(polyloc_input_health, last_stamp_ns) == 48 &&
+              offsetof(polyloc_input_health, extrapolated) == 64);
+static_assert(sizeof(polyloc_health) == 1792 && offsetof(polyloc_health, inputs) == 56 && offsetof(polyloc_health, input) == 64);
 
 }  // namespace polyloc::shm

@@ -5,9 +5,11 @@
 #include "fixtures.hpp"
 
 #include <polyloc/io/recording.hpp>
+#include <polyloc/sim/scenario.hpp>
 #include <polyloc/sim/simulator.hpp>
 
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,18 @@ class CaptureWriter final : public RecordingWriter {
     return out;
   }
   std::vector<Entry> entries;
+};
+
+// The bundled lab tour simulated for `seconds`: its messages, and the simulator for the truth.
+struct LabTour {
+  Scenario scenario;
+  std::unique_ptr<Simulator> sim;
+  CaptureWriter rec;
+  explicit LabTour(double seconds) : scenario(loadScenario(std::string(POLYLOC_SOURCE_DIR) + "/maps/scenarios/lab_tour.yaml")) {
+    scenario.duration = seconds;
+    sim = std::make_unique<Simulator>(scenario, loadScenarioMap(scenario));
+    sim->run(rec);
+  }
 };
 
 // Every field of a message as bytes, in declaration order.

@@ -62,6 +62,7 @@ struct HostileValues : ::testing::Test {
     c.daemon.instance = instance;
     c.daemon.threads = 2;
     c.daemon.control.enabled = false;
+    c.daemon.live.port = 0;  // a viewer the developer runs keeps its port
     c.daemon.init = InitPose{Pose::planar(1.3, 1.75, 0)};
     daemon = std::make_unique<Daemon>(std::move(c));
     thread = std::thread([this] { daemon->run(stop); });
@@ -168,11 +169,9 @@ TEST_F(HostileValues, EveryValueInEverySetposeFieldIsBadArgumentOutsideItsDomain
 // counted (odometry_invalid; beams outside the sensor's range are no returns), the run goes on
 // and its accuracy holds.
 TEST(HostileRecording, EveryValueInTheOdometryAndScansLeavesTheRunOnTrack) {
-  Scenario s = loadScenario(std::string(POLYLOC_SOURCE_DIR) + "/maps/scenarios/lab_tour.yaml");
-  s.duration = 3;
-  Simulator sim(s, loadScenarioMap(s));
-  test::CaptureWriter rec;
-  sim.run(rec);
+  const test::LabTour tour(3);
+  const auto& rec = tour.rec;
+  const Simulator& sim = *tour.sim;
   const PolylocConfig cfg = loadConfig(std::string(POLYLOC_SOURCE_DIR) + "/maps/config/lab.yaml");
   const Mesh mesh = loadMesh(cfg.map.file, cfg.map.load);
   EmbreeCaster caster(mesh);

@@ -39,6 +39,7 @@ ServiceConfig labConfig(const std::string& instance) {
   c.daemon.instance = instance;
   c.daemon.threads = 2;
   c.daemon.control.enabled = false;
+  c.daemon.live.port = 0;  // a viewer the developer runs keeps its port
   c.daemon.init = InitPose{Pose::planar(1.3, 1.75, 0)};  // a global start takes 100k particles: slow for these tests
   return c;
 }
@@ -93,25 +94,27 @@ polyloc_health settle(const shm::Segment& seg, uint64_t frames) {
   return h;
 }
 
+// polylocd's config for a recording fed unpaced from `start`: clock: source, rings large enough
+// to hold the whole run, any age (one channel may run seconds ahead of another).
+ServiceConfig fedConfig(const char* what, const Pose& start) {
+  ServiceConfig c = labConfig(uniqueInstance(what));
+  c.daemon.source_clock = true;
+  c.daemon.max_age_ns = 3600'000'000'000;
+  c.daemon.slots = 512;
+  c.daemon.init = InitPose{start, 0.05, 0.05};
+  return c;
+}
+
 }  // namespace
 
-// A simulated 8 s of the lab tour, fed as fast as the daemon takes it (clock: source, rings
-// large enough to hold the whole run): the pose follows the truth, VRS and tracks come out, no
-// frame is rejected or lost.
+// A simulated 8 s of the lab tour, fed as fast as the daemon takes it: the pose follows the
+// truth, VRS and tracks come out, no frame is rejected or lost.
 TEST(Polylocd, LocalisesAFedLabTour) {
-  Scenario s = loadScenario(std::string(POLYLOC_SOURCE_DIR) + "/maps/scenarios/lab_tour.yaml");
-  s.duration = 8;
-  Simulator sim(s, loadScenarioMap(s));
-  test::CaptureWriter rec;
-  sim.run(rec);
+  const test::LabTour tour(8);
+  const auto& rec = tour.rec;
+  const Simulator& sim = *tour.sim;
 
-  ServiceConfig c = labConfig(uniqueInstance("tour"));
-  c.daemon.source_clock = true;
-  c.daemon.max_age_ns = 3600'000'000'000;  // fed unpaced: one channel may run seconds ahead of another
-  c.daemon.slots = 512;
-  const Pose start = sim.groundTruth(0);
-  c.daemon.init = InitPose{start, 0.05, 0.05};
-  Running d(std::move(c));
+  Running d(fedConfig("tour", sim.groundTruth(0)));
   shm::Segment seg = attachReady(d.daemon->config().daemon.instance);
   shm::Reader poses(seg, seg.find("pose"), shm::Reader::Start::Oldest);
   shm::Reader vrs(seg, seg.find("vrs"), shm::Reader::Start::Oldest);
@@ -318,4 +321,77 @@ TEST(Polylocd, NoSingleStampSetsTheSourceClock) {
     EXPECT_EQ(taken(h), after + 8) << "frames after a jump of " << jump << " ns were refused";
     EXPECT_GT(h.poses, poses) << "no pose after a jump of " << jump << " ns";
   }
+}
+
+namespace {
+
+// The poses polylocd published for a lab tour fed as `late` says: false, every frame in stamp
+// order as fast as it goes; true, each odometry message held back until after the sensor frames
+// it covers, with a pause between (the daemon reads the frame alone, before its odometry).
+struct Fed {
+  std::vector<std::string> poses;  // every pose field but the latency, as bytes
+  uint64_t extrapolated = 0;
+};
+Fed feedTour(const test::CaptureWriter& rec, const Pose& start, const char* name, int threads, bool late, int64_t odom_wait_ns) {
+  ServiceConfig c = fedConfig(name, start);
+  c.daemon.threads = threads;
+  c.daemon.odom_wait_ns = odom_wait_ns;
+  Running d(std::move(c));
+  shm::Segment seg = attachReady(d.daemon->config().daemon.instance);
+  shm::Reader poses(seg, seg.find("pose"), shm::Reader::Start::Oldest);
+  MessageFeed feed(seg);
+  std::vector<const test::CaptureWriter::Entry*> odom;  // held back
+  for (const auto& e : rec.entries) {
+    if (late && e.topic == "/odom") {
+      odom.push_back(&e);
+      continue;
+    }
+    if (!odom.empty() && e.stamp > odom.front()->stamp) {  // this frame would have come after them
+      std::this_thread::sleep_for(5ms);
+      for (const auto* o : odom) feed.send(o->topic, o->stamp, o->message);
+      odom.clear();
+    }
+    feed.send(e.topic, e.stamp, e.message);
+  }
+  for (const auto* o : odom) feed.send(o->topic, o->stamp, o->message);
+  feed.flush();
+  const polyloc_health h = settle(seg, feed.sent());
+  // The last frames wait their odom_wait before they go: poses keep coming for a moment.
+  std::this_thread::sleep_for(std::chrono::nanoseconds(2 * odom_wait_ns) + 100ms);
+  Fed out;
+  for (uint32_t i = 0; i < h.inputs; ++i) out.extrapolated += h.input[i].extrapolated;
+  std::vector<uint8_t> buf;
+  while (poses.next(buf)) out.poses.emplace_back(reinterpret_cast<const char*>(buf.data()), offsetof(polyloc_pose, latency_ns));
+  return out;
+}
+
+}  // namespace
+
+// A scan read before the odometry that covers its stamp waits for it (polylocd.odom_wait), so
+// the poses do not depend on when odometry arrives nor on the thread count; without the wait
+// the same late odometry gives other poses, and every scan between odometry ticks is counted
+// as extrapolated.
+TEST(Polylocd, LateOdometryGivesTheSamePoses) {
+  const test::LabTour tour(4);
+  const auto& rec = tour.rec;
+  const Simulator& sim = *tour.sim;
+
+  // A wait far beyond the 5 ms the odometry comes late: a loaded machine must not make it lapse.
+  constexpr int64_t kWaitNs = 500'000'000;
+  const Fed in_order = feedTour(rec, sim.groundTruth(0), "odom_in_order", 2, false, kWaitNs);
+  const Fed late = feedTour(rec, sim.groundTruth(0), "odom_late", 1, true, kWaitNs);
+  ASSERT_GT(in_order.poses.size(), 20u);
+  EXPECT_EQ(late.poses.size(), in_order.poses.size());
+  size_t differ = 0;
+  for (size_t k = 0; k < std::min(late.poses.size(), in_order.poses.size()); ++k) differ += late.poses[k] != in_order.poses[k];
+  EXPECT_EQ(differ, 0u) << "of " << in_order.poses.size() << " poses";
+  EXPECT_EQ(late.extrapolated, in_order.extrapolated);
+  EXPECT_LE(in_order.extrapolated, 4u);  // at most the frames after the last odometry message
+
+  const Fed no_wait = feedTour(rec, sim.groundTruth(0), "odom_no_wait", 1, true, 0);
+  size_t differ_no_wait = 0;
+  for (size_t k = 0; k < std::min(no_wait.poses.size(), in_order.poses.size()); ++k)
+    differ_no_wait += no_wait.poses[k] != in_order.poses[k];
+  EXPECT_GT(differ_no_wait, in_order.poses.size() / 2);
+  EXPECT_GT(no_wait.extrapolated, 50u);
 }

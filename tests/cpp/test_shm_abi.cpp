@@ -32,10 +32,10 @@ TEST(ShmAbi, AnotherAbiVersionIsRefusedNamingBoth) {
   test::ShmName name;
   auto seg = Segment::create(name, test::rigChannels());
   seg.ready();
-  reinterpret_cast<polyloc_shm_header*>(seg.base())->abi_version = 2;
+  reinterpret_cast<polyloc_shm_header*>(seg.base())->abi_version = POLYLOC_SHM_ABI_VERSION + 1;
   const ShmError e = attachError(name);
   EXPECT_EQ(e.code(), ShmError::Errc::Abi);
-  EXPECT_TRUE(contains(e, "segment /polyloc." + name.str() + " has ABI version 2; this client speaks 1")) << e.what();
+  EXPECT_TRUE(contains(e, "segment /polyloc." + name.str() + " has ABI version 3; this client speaks 2")) << e.what();
 }
 
 TEST(ShmAbi, ForeignOrBrokenSegmentsAreRefused) {

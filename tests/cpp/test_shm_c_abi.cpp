@@ -35,9 +35,9 @@ TEST(ShmCAbi, AttachErrorsHaveCodesAndMessages) {
   auto seg = Segment::create(name, test::rigChannels());
   EXPECT_EQ(polyloc_attach(name.str().c_str(), &c), POLYLOC_ERR_NOT_READY);
   seg.ready();
-  reinterpret_cast<polyloc_shm_header*>(seg.base())->abi_version = 2;
+  reinterpret_cast<polyloc_shm_header*>(seg.base())->abi_version = POLYLOC_SHM_ABI_VERSION + 1;
   EXPECT_EQ(polyloc_attach(name.str().c_str(), &c), POLYLOC_ERR_ABI);
-  EXPECT_NE(lastError().find("has ABI version 2; this client speaks 1"), std::string::npos) << lastError();
+  EXPECT_NE(lastError().find("has ABI version 3; this client speaks 2"), std::string::npos) << lastError();
   EXPECT_STREQ(polyloc_status_name(POLYLOC_ERR_ABI), "ABI version mismatch");
   reinterpret_cast<polyloc_shm_header*>(seg.base())->abi_version = POLYLOC_SHM_ABI_VERSION;
   ASSERT_EQ(polyloc_attach(name.str().c_str(), &c), POLYLOC_OK);

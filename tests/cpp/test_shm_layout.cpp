@@ -195,7 +195,7 @@ TEST(ShmLayout, PayloadSizePerKind) {
   EXPECT_EQ(shm::payloadSize(spec("p", POLYLOC_KIND_POSE, 1)), 440u);
   EXPECT_EQ(shm::payloadSize(spec("v", POLYLOC_KIND_VRS, 1, 8, 360)), 32u + 360 * 4);
   EXPECT_EQ(shm::payloadSize(spec("t", POLYLOC_KIND_TRACKS, 1)), 4624u);
-  EXPECT_EQ(shm::payloadSize(spec("h", POLYLOC_KIND_HEALTH, 1)), 1600u);
+  EXPECT_EQ(shm::payloadSize(spec("h", POLYLOC_KIND_HEALTH, 1)), 1792u);
   EXPECT_THROW(shm::payloadSize(spec("x", 99, 0)), shm::ShmError);
 }
 

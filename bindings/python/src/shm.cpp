@@ -293,7 +293,7 @@ pb::dict decode(const shm::FrameInfo& f, const std::vector<uint8_t>& buf, const 
         pb::dict x;
         x["taken"] = e.taken, x["rejected_nan"] = e.rejected_nan, x["rejected_size"] = e.rejected_size;
         x["rejected_stale"] = e.rejected_stale, x["rejected_future"] = e.rejected_future, x["overruns"] = e.overruns;
-        x["last_stamp_ns"] = e.last_stamp_ns, x["silent"] = e.silent != 0;
+        x["last_stamp_ns"] = e.last_stamp_ns, x["silent"] = e.silent != 0, x["extrapolated"] = e.extrapolated;
         in[pb::str(i < inputs.size() ? inputs[i] : "input" + std::to_string(i))] = x;
       }
       d["inputs"] = in;
@@ -657,12 +657,13 @@ unless take_over.)")
             e.rejected_size = get<uint64_t>(x, "rejected_size", 0), e.rejected_stale = get<uint64_t>(x, "rejected_stale", 0);
             e.rejected_future = get<uint64_t>(x, "rejected_future", 0), e.overruns = get<uint64_t>(x, "overruns", 0);
             e.last_stamp_ns = get<int64_t>(x, "last_stamp_ns", 0), e.silent = get<bool>(x, "silent", false);
+            e.extrapolated = get<uint64_t>(x, "extrapolated", 0);
           }
         }
         w.writeStruct(h, stamp_ns);
       }, pb::arg("stamp_ns"), pb::arg("health"),
            "A health frame from a dict like Reader.next() gives (cycles, poses, vrs, tracks, cycle_p50_ms, cycle_p99_ms, "
-           "flags, inputs: {input channel: {taken, rejected_*, overruns, last_stamp_ns, silent}}).");
+           "flags, inputs: {input channel: {taken, rejected_*, overruns, last_stamp_ns, silent, extrapolated}}).");
 
   pb::class_<PyReader>(m, "Reader", R"(A reader of one channel, at its own pace: it never disturbs the writer or other readers.
 

@@ -129,15 +129,16 @@ def test_round_trip_of_every_kind(instance):
         health = {"cycles": 10, "poses": 4, "vrs": 3, "tracks": 2, "cycle_p50_ms": 1.5, "cycle_p99_ms": 4.25,
                   "flags": 1, "inputs": {"odom": {"taken": 9, "rejected_stale": 1, "overruns": 2,
                                                   "last_stamp_ns": t, "silent": True},
-                                         "scan/front": {"taken": 5, "rejected_nan": 1}}}
+                                         "scan/front": {"taken": 5, "rejected_nan": 1, "extrapolated": 3}}}
         writers["health"].write_health(t + 7, health)
         f = readers["health"].next()
         assert f["stamp_ns"] == t + 7 and f["cycles"] == 10 and f["cycle_p99_ms"] == 4.25
         assert f["flags"] == 1 and f["silent"] and not f["lost"]
         assert list(f["inputs"]) == ["scan/front", "depth/tof", "odom"]  # every input, in channel order
         assert f["inputs"]["odom"] == {"taken": 9, "rejected_nan": 0, "rejected_size": 0, "rejected_stale": 1,
-                                       "rejected_future": 0, "overruns": 2, "last_stamp_ns": t, "silent": True}
-        assert f["inputs"]["scan/front"]["rejected_nan"] == 1 and f["inputs"]["depth/tof"]["taken"] == 0
+                                       "rejected_future": 0, "overruns": 2, "last_stamp_ns": t, "silent": True,
+                                       "extrapolated": 0}
+        assert f["inputs"]["scan/front"]["rejected_nan"] == 1 and f["inputs"]["scan/front"]["extrapolated"] == 3 and f["inputs"]["depth/tof"]["taken"] == 0
 
         # newest() gives the last frame again; a raw payload goes out as it is.
         assert readers["pose"].next() is None and readers["pose"].newest()["stamp_ns"] == t + 4

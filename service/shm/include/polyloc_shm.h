@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 #define POLYLOC_SHM_MAGIC 0x4d48534c4f4c4f50ull /* "POLOLSHM" little-endian */
-#define POLYLOC_SHM_ABI_VERSION 1u
+#define POLYLOC_SHM_ABI_VERSION 2u
 #define POLYLOC_MAX_CHANNELS 32u
 #define POLYLOC_NAME_LEN 32u
 #define POLYLOC_MAX_TRACKS 64u
@@ -174,6 +174,8 @@ typedef struct {
   uint32_t silent;             /* 1: no frame for longer than the input timeout */
   uint32_t map_fit_permille;   /* share of this sensor's beams the map explains at the estimate, smoothed
                                   (mcl.fit), in 1/1000, at least 1; 0: not measured (odometry, not weighed) */
+  uint64_t extrapolated;       /* frames weighed with the motion extrapolated past the newest odometry
+                                  (it did not come within polylocd.odom_wait, or it is silent) */
 } polyloc_input_health;
 typedef struct {
   int64_t stamp_ns;            /* CLOCK_REALTIME when written */

@@ -94,6 +94,8 @@ class Localizer {
   // Cumulative odometry pose (odom_T_base), as nav_msgs/Odometry gives it. Older than the last
   // one: ignored and counted.
   void addOdometry(int64_t stamp_ns, const Pose& odom_T_base);
+  // The odometry at a stamp, as a scan stamped then is predicted with (OdometryBuffer::at).
+  Pose odometryAt(int64_t stamp_ns) const;
   // One frame of rig sensor `sensor` (index into the rig): ranges in the sensor's beam order
   // (BeamSet of its spec); NaN/inf/out of [range_min, range_max] are invalid beams. After enough
   // motion (update_min_distance / _angle) a round starts in which each sensor's next frame is
