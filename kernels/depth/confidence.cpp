@@ -30,8 +30,10 @@ struct Scratch {
 };
 
 // The row kernels. __restrict and no branches (selects on loaded values) let them vectorise;
-// each is built for AVX2 and for the baseline, and the loader picks what the CPU has.
-#if defined(__x86_64__) && defined(__GNUC__)
+// each is built for AVX2 and for the baseline, and the loader picks what the CPU has. Not under
+// the sanitizers (make sanitize): the loader runs the ifunc resolver before their runtime is up,
+// and the instrumented resolver crashes.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_THREAD__) && !defined(__SANITIZE_ADDRESS__)
 #define POLYLOC_ROW_KERNEL __attribute__((target_clones("avx2", "default")))
 #else
 #define POLYLOC_ROW_KERNEL

@@ -327,7 +327,8 @@ namespace {
 
 // The poses polylocd published for a lab tour fed as `late` says: false, every frame in stamp
 // order as fast as it goes; true, each odometry message held back until after the sensor frames
-// it covers, with a pause between (the daemon reads the frame alone, before its odometry).
+// it covers, published only once polylocd has read those frames (health's last stamps, renewed
+// every cycle here): the frames are read alone, before their odometry, however slow the machine.
 struct Fed {
   std::vector<std::string> poses;  // every pose field but the latency, as bytes
   uint64_t extrapolated = 0;
@@ -336,22 +337,37 @@ Fed feedTour(const test::CaptureWriter& rec, const Pose& start, const char* name
   ServiceConfig c = fedConfig(name, start);
   c.daemon.threads = threads;
   c.daemon.odom_wait_ns = odom_wait_ns;
+  c.daemon.health_rate_hz = 1000;
   Running d(std::move(c));
   shm::Segment seg = attachReady(d.daemon->config().daemon.instance);
   shm::Reader poses(seg, seg.find("pose"), shm::Reader::Start::Oldest);
   MessageFeed feed(seg);
+  const int odom_input = seg.find("odom");  // inputs come first: channel index = health index
+  auto readUpTo = [&](int64_t stamp) {
+    for (const auto end = std::chrono::steady_clock::now() + 10s; std::chrono::steady_clock::now() < end;) {
+      if (auto h = health(seg)) {
+        int64_t newest = 0;
+        for (uint32_t i = 0; i < h->inputs; ++i)
+          if (int(i) != odom_input) newest = std::max(newest, h->input[i].last_stamp_ns);
+        if (newest >= stamp) return;
+      }
+      std::this_thread::sleep_for(1ms);
+    }
+    ADD_FAILURE() << "polylocd did not read the frames up to " << stamp;
+  };
   std::vector<const test::CaptureWriter::Entry*> odom;  // held back
+  int64_t sent = 0;                                     // the newest sensor frame published
   for (const auto& e : rec.entries) {
     if (late && e.topic == "/odom") {
       odom.push_back(&e);
       continue;
     }
     if (!odom.empty() && e.stamp > odom.front()->stamp) {  // this frame would have come after them
-      std::this_thread::sleep_for(5ms);
+      readUpTo(sent);
       for (const auto* o : odom) feed.send(o->topic, o->stamp, o->message);
       odom.clear();
     }
-    feed.send(e.topic, e.stamp, e.message);
+    if (feed.send(e.topic, e.stamp, e.message) == MessageFeed::Sent::Frame) sent = std::max(sent, e.stamp);
   }
   for (const auto* o : odom) feed.send(o->topic, o->stamp, o->message);
   feed.flush();
@@ -376,7 +392,7 @@ TEST(Polylocd, LateOdometryGivesTheSamePoses) {
   const auto& rec = tour.rec;
   const Simulator& sim = *tour.sim;
 
-  // A wait far beyond the 5 ms the odometry comes late: a loaded machine must not make it lapse.
+  // A wait far beyond the time the odometry comes late: a loaded machine must not make it lapse.
   constexpr int64_t kWaitNs = 500'000'000;
   const Fed in_order = feedTour(rec, sim.groundTruth(0), "odom_in_order", 2, false, kWaitNs);
   const Fed late = feedTour(rec, sim.groundTruth(0), "odom_late", 1, true, kWaitNs);
