@@ -94,7 +94,7 @@ sanitize: deps
 	    "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=$$s" "-DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=$$s" || exit 1; \
 	  cmake --build $$d -j $(JOBS) || exit 1; \
 	  echo "sanitize: $$s"; \
-	  ( cd $$d && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$(CURDIR)/tests/sanitize/tsan.supp" \
+	  ( cd $$d && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ignore_noninstrumented_modules=1 suppressions=$(CURDIR)/tests/sanitize/tsan.supp" \
 	    ASAN_OPTIONS="detect_leaks=1 abort_on_error=1" LSAN_OPTIONS="suppressions=$(CURDIR)/tests/sanitize/lsan.supp" \
 	    UBSAN_OPTIONS="print_stacktrace=1 halt_on_error=1" \
 	    ctest --output-on-failure -j $(JOBS) --timeout 1800 -R "$$(case $$s in thread) echo '$(TSAN_TESTS)';; *) echo '$(ASAN_TESTS)';; esac)" ) || exit 1; \
