@@ -6,6 +6,7 @@
 
 #include <polyloc/geometry/pose.hpp>
 #include "shm/segment.hpp"
+#include "shm/validate.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -345,13 +346,8 @@ int polyloc_write_command(polyloc_client* c, int channel, int64_t stamp_ns, doub
                           uint32_t nav_state, uint32_t goal, const char* status) {
   return guarded([&]() -> int {
     const char* fn = "polyloc_write_command";
-    const double v[3] = {vx, vy, wz};
-    static const char* names[3] = {"vx", "vy", "wz"};
-    for (int i = 0; i < 3; ++i)
-      if (!std::isfinite(v[i]) || std::fabs(v[i]) > 100.0)
-        raise(POLYLOC_ERR_ARGUMENT, std::string(fn) + ": " + names[i] + " = " + std::to_string(v[i]) + " is not within +-100");
-    if (nav_state > POLYLOC_NAV_FAILED)
-      raise(POLYLOC_ERR_ARGUMENT, std::string(fn) + ": nav_state " + std::to_string(nav_state) + " is not a POLYLOC_NAV_* value");
+    if (std::string why = polyloc::shm::commandProblem(vx, vy, wz, nav_state); !why.empty())
+      raise(POLYLOC_ERR_ARGUMENT, std::string(fn) + ": " + why);
     Writer& w = writerOf(c, channel, POLYLOC_KIND_COMMAND, fn);
     polyloc_command m{};
     m.stamp_ns = stamp_ns;

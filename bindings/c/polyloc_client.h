@@ -104,7 +104,7 @@ POLYLOC_API int polyloc_write_odometry(polyloc_client* c, int channel, int64_t s
                                        const double twist[3]);
 /* A controller's velocity command on "cmd_vel" (base_link: vx, vy m/s, wz rad/s), with its mission
  * state (POLYLOC_NAV_*), goal number and a status line (NULL: ""; cut at 63 bytes). A value that is
- * not finite or beyond +-100, or a nav_state above POLYLOC_NAV_FAILED: POLYLOC_ERR_ARGUMENT, nothing written. */
+ * not finite or beyond +-POLYLOC_COMMAND_MAX (100), or a nav_state above POLYLOC_NAV_FAILED: POLYLOC_ERR_ARGUMENT, nothing written. */
 POLYLOC_API int polyloc_write_command(polyloc_client* c, int channel, int64_t stamp_ns, double vx, double vy,
                                       double wz, uint32_t nav_state, uint32_t goal, const char* status);
 

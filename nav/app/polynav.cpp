@@ -17,7 +17,6 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <random>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -66,15 +65,8 @@ std::vector<polynav::GoalSpot> pickGoals(const Args& a, const polynav::Zones& z)
   }
   if (a.random) {
     if (z.goals.size() < 2) die("--random needs at least 2 goals in " + a.zones);
-    std::mt19937_64 rng(a.seed);
-    size_t last = z.goals.size();
-    for (size_t k = 0; k < a.random; ++k) {
-      size_t i;
-      do i = size_t(rng() % z.goals.size());
-      while (i == last);
-      out.push_back(z.goals[i]);
-      last = i;
-    }
+    const auto drawn = polynav::randomGoals(z, a.random, a.seed);
+    out.insert(out.end(), drawn.begin(), drawn.end());
   }
   if (out.empty()) die("no goals: give --goals NAME,NAME or --random N");
   return out;

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <limits>
 #include <map>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -205,6 +206,21 @@ DoorPassage doorPassage(const Door& door, const Vector2d& from_side_point) {
   const Vector2d before = door.centre - heading * door.depth, after = door.centre + heading * door.depth;
   out.before = {before.x(), before.y(), yaw};
   out.after = {after.x(), after.y(), yaw};
+  return out;
+}
+
+std::vector<GoalSpot> randomGoals(const Zones& zones, size_t n, uint64_t seed) {
+  if (zones.goals.size() < 2) throw ZonesError("random missions need at least 2 goals, the zones have " + std::to_string(zones.goals.size()));
+  std::vector<GoalSpot> out;
+  std::mt19937_64 rng(seed);
+  size_t last = zones.goals.size();
+  for (size_t k = 0; k < n; ++k) {
+    size_t i;
+    do i = size_t(rng() % zones.goals.size());
+    while (i == last);
+    out.push_back(zones.goals[i]);
+    last = i;
+  }
   return out;
 }
 

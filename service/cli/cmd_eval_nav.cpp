@@ -31,7 +31,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <random>
 
 namespace polyloc::cli {
 
@@ -67,16 +66,7 @@ std::vector<polynav::GoalSpot> drawGoals(const NavigationSpec& nav, const polyna
     return out;
   }
   if (z.goals.size() < 2) throw std::runtime_error(fmt::format("{}: random missions need at least 2 goals", nav.zones));
-  std::mt19937_64 rng(seed);
-  size_t last = z.goals.size();
-  for (size_t k = 0; k < n; ++k) {
-    size_t i;
-    do i = size_t(rng() % z.goals.size());
-    while (i == last);
-    out.push_back(z.goals[i]);
-    last = i;
-  }
-  return out;
+  return polynav::randomGoals(z, n, seed);
 }
 
 // The scenario's config for this polylocd: absolute paths, the source clock (lockstep), no TCP

@@ -81,20 +81,29 @@ Validation odometry(const Check& c, const uint8_t* p, size_t bytes) {
   return {};
 }
 
-// Commands drive a base: what no base could execute (100 m/s) is out of domain, not clamped.
+// Commands drive a base: what no base could execute is out of domain, not clamped (commandProblem).
 Validation command(const Check& c, const uint8_t* p, size_t bytes) {
   if (bytes != sizeof(polyloc_command))
     return c.fail(Reject::Size, str(bytes) + " bytes, expected " + str(sizeof(polyloc_command)) + " for a command");
   const auto m = field<polyloc_command>(p, 0);
-  const double v[3] = {m.vx, m.vy, m.wz};
-  static const char* names[3] = {"vx", "vy", "wz"};
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(v[i]) || std::fabs(v[i]) > 100.0)
-      return c.fail(Reject::NaN, std::string(names[i]) + " is " + std::to_string(v[i]) + ": not within +-100");
-  if (m.nav_state > POLYLOC_NAV_FAILED) return c.fail(Reject::NaN, "nav_state " + str(m.nav_state) + ", expected 0..3");
+  if (std::string why = commandProblem(m.vx, m.vy, m.wz, m.nav_state); !why.empty()) return c.fail(Reject::NaN, why);
   if (std::memchr(m.status, 0, sizeof m.status) == nullptr) return c.fail(Reject::Size, "status is not NUL-terminated");
   return {};
 }
+
+}  // namespace
+
+std::string commandProblem(double vx, double vy, double wz, uint32_t nav_state) {
+  const double v[3] = {vx, vy, wz};
+  static const char* names[3] = {"vx", "vy", "wz"};
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(v[i]) || std::fabs(v[i]) > POLYLOC_COMMAND_MAX)
+      return std::string(names[i]) + " is " + std::to_string(v[i]) + ": not within +-" + std::to_string(int(POLYLOC_COMMAND_MAX));
+  if (nav_state > POLYLOC_NAV_FAILED) return "nav_state " + std::to_string(nav_state) + ", expected 0..3";
+  return {};
+}
+
+namespace {
 
 // a < b - d and a > b + d without overflowing int64.
 bool olderThan(int64_t a, int64_t b, int64_t d) { return static_cast<__int128>(a) < static_cast<__int128>(b) - d; }

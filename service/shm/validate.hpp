@@ -38,4 +38,10 @@ struct Validation {
 Validation validateInput(const polyloc_channel_desc& channel, uint64_t frame, const uint8_t* payload,
                          size_t bytes, const StampRules& rules);
 
+// The domain of a velocity command, one rule for every writer (the C client, the Python
+// bindings) and for the segment check: vx vy wz finite within +-POLYLOC_COMMAND_MAX, nav_state a
+// POLYLOC_NAV_* value. "" when the command is in its domain, else what is wrong ("vx is nan: not
+// within +-100", "nav_state 7, expected 0..3").
+std::string commandProblem(double vx, double vy, double wz, uint32_t nav_state);
+
 }  // namespace polyloc::shm

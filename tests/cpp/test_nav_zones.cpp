@@ -462,3 +462,26 @@ TEST(NavZones, MarkTheLabOnItsGrid) {
   EXPECT_FALSE(g.occupied[*g.cellAt({23.3, 6.0})]);
   EXPECT_GT(occupied, 50u * 130u);
 }
+
+// Random missions (polynav --random and eval nav draw them with this one function): the same
+// seed gives the same goals, a goal never follows itself, and fewer than 2 goals is an error.
+TEST(NavZones, RandomGoalsAreSeededAndNeverRepeatAGoalAtOnce) {
+  polynav::Zones z;
+  for (const char* name : {"a", "b", "c"}) z.goals.push_back({name, {double(z.goals.size()), 0, 0}, 0.5});
+  const auto first = polynav::randomGoals(z, 200, 7), again = polynav::randomGoals(z, 200, 7);
+  const auto other = polynav::randomGoals(z, 200, 8);
+  ASSERT_EQ(first.size(), 200u);
+  std::map<std::string, int> count;
+  bool differs = false;
+  for (size_t k = 0; k < first.size(); ++k) {
+    EXPECT_EQ(first[k].name, again[k].name);
+    differs |= first[k].name != other[k].name;
+    if (k) EXPECT_NE(first[k].name, first[k - 1].name) << k;
+    ++count[first[k].name];
+  }
+  EXPECT_TRUE(differs);
+  EXPECT_EQ(count.size(), 3u);
+  for (const auto& [name, n] : count) EXPECT_GT(n, 40) << name;  // about 67 each
+  z.goals.resize(1);
+  EXPECT_THROW(polynav::randomGoals(z, 3, 7), polynav::ZonesError);
+}

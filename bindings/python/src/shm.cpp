@@ -10,6 +10,7 @@
 #include "shm/channel.hpp"
 #include "shm/atomic.hpp"
 #include "shm/segment.hpp"
+#include "shm/validate.hpp"
 
 #include <polyloc/configfile/polyloc_config.hpp>
 
@@ -567,14 +568,13 @@ unless take_over.)")
         polyloc_command c{};
         c.stamp_ns = stamp_ns;
         c.vx = twist[0], c.vy = twist[1], c.wz = twist[2];
-        for (double v : twist)
-          if (!std::isfinite(v) || std::abs(v) > 100.0)
-            raise(PyExc_ValueError, "write_command: twist value " + std::to_string(v) + " is not within +-100");
         c.nav_state = 4;
         for (uint32_t k = 0; k < 4; ++k)
           if (nav_state == states[k]) c.nav_state = k;
         if (c.nav_state > POLYLOC_NAV_FAILED)
           raise(PyExc_ValueError, "write_command: nav_state '" + nav_state + "' (idle, driving, reached, failed)");
+        if (std::string why = shm::commandProblem(c.vx, c.vy, c.wz, c.nav_state); !why.empty())
+          raise(PyExc_ValueError, "write_command: " + why);
         c.goal = goal;
         std::strncpy(c.status, status.c_str(), sizeof c.status - 1);
         w.writeStruct(c, stamp_ns);

@@ -137,6 +137,11 @@ DoorPassage doorPassage(const Door& door, const Eigen::Vector2d& from_side_point
 // The intermediate pose: `approach` behind the goal along its heading, with the goal's yaw.
 Eigen::Vector3d approachPose(const GoalSpot& goal);
 
+// `n` goals drawn at random from zones.goals (mt19937_64 seeded with `seed`), never the same one
+// twice in a row: random missions (polynav --random, polyloc eval nav). Throws ZonesError for
+// fewer than 2 goals.
+std::vector<GoalSpot> randomGoals(const Zones& zones, size_t n, uint64_t seed);
+
 // Reads a zone file (format above); the result passes Zones::validate. Throws ZonesError.
 Zones loadZones(const std::string& yaml_path);
 

@@ -122,6 +122,8 @@ typedef struct {
  * base driver (or `polyloc play --drive`) reads the newest frame and stops the robot when none came
  * for its command timeout (0.5 s), as a real base does. */
 enum { POLYLOC_NAV_IDLE = 0, POLYLOC_NAV_DRIVING = 1, POLYLOC_NAV_REACHED = 2, POLYLOC_NAV_FAILED = 3 };
+/* |vx|, |vy|, |wz| beyond this (m/s, rad/s) is no command a base could execute: refused, not clamped */
+#define POLYLOC_COMMAND_MAX 100.0
 typedef struct {
   int64_t stamp_ns;            /* the data's time the command answers (the stamp of the pose/VRS it used) */
   double vx, vy, wz;           /* base_link: m/s forward, m/s left (0 on a differential base), rad/s */
