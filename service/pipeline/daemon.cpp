@@ -4,7 +4,6 @@
 #include "pipeline/shm_payloads.hpp"
 #include "pipeline/input_gate.hpp"
 #include "shm/channel.hpp"
-#include "shm/validate.hpp"
 
 #include <polyloc/geometry/domain.hpp>
 #include <polyloc/map/load.hpp>

@@ -53,7 +53,6 @@ class InputGate {
   // Renews each input's silent flag (no frame for input_timeout), logging changes; the health
   // per input, in ChannelTable::inputs order.
   const std::vector<polyloc_input_health>& health(int64_t mono);
-  size_t inputs() const { return readers_.size(); }
 
  private:
   const polyloc_channel_desc& desc(size_t input) const;
