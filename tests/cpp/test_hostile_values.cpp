@@ -171,7 +171,6 @@ TEST_F(HostileValues, EveryValueInEverySetposeFieldIsBadArgumentOutsideItsDomain
 TEST(HostileRecording, EveryValueInTheOdometryAndScansLeavesTheRunOnTrack) {
   const test::LabTour tour(3);
   const auto& rec = tour.rec;
-  const Simulator& sim = *tour.sim;
   const PolylocConfig cfg = loadConfig(std::string(POLYLOC_SOURCE_DIR) + "/maps/config/lab.yaml");
   const Mesh mesh = loadMesh(cfg.map.file, cfg.map.load);
   EmbreeCaster caster(mesh);

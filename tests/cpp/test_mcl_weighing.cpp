@@ -102,7 +102,9 @@ TEST(MclWeighing, UnlistedSensorIsIgnored) {
     for (size_t i = 0; i < truth.size(); ++i) {
       const int64_t t = int64_t(i) * 100'000'000;
       loc.addOdometry(t, truth[i]);
-      if (garbage) EXPECT_FALSE(loc.addScan(1, t, junk));
+      if (garbage) {
+        EXPECT_FALSE(loc.addScan(1, t, junk));
+      }
       loc.addScan(0, t, simulateScan(caster, rig.sensors[0], truth[i], 0.01, i));
     }
     return loc.estimate().pose;

@@ -476,7 +476,9 @@ TEST(NavZones, RandomGoalsAreSeededAndNeverRepeatAGoalAtOnce) {
   for (size_t k = 0; k < first.size(); ++k) {
     EXPECT_EQ(first[k].name, again[k].name);
     differs |= first[k].name != other[k].name;
-    if (k) EXPECT_NE(first[k].name, first[k - 1].name) << k;
+    if (k) {
+      EXPECT_NE(first[k].name, first[k - 1].name) << k;
+    }
     ++count[first[k].name];
   }
   EXPECT_TRUE(differs);

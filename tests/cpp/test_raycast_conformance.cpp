@@ -91,8 +91,9 @@ TEST_P(Conformance, WindowsMissesAndWindowsStartingInSolid) {
   EXPECT_EQ(castOne(*caster, o, {1, 0, 0}, 1.5f, 1.f), kInfRange);  // an empty window
   EXPECT_EQ(castOne(*caster, o, {1, 0, 0}, 2.5f, 10.f), kInfRange); // beyond the wall: nothing
   EXPECT_NEAR(castOne(*caster, o, {1, 0, 0}, 1.f, 10.f), 2.0f, c.tol);
-  if (c.knows_interiors)  // a window starting inside the wall: the start (backface_is_solid)
+  if (c.knows_interiors) {  // a window starting inside the wall: the start (backface_is_solid)
     EXPECT_NEAR(castOne(*caster, o, {1, 0, 0}, 2.1f, 10.f), 2.1f, 1e-5f);
+  }
   caster->options.miss_is_max_range = true;
   EXPECT_FLOAT_EQ(castOne(*caster, o, {1, 0, 0}, 0.f, 1.f), 1.f);
 }
@@ -103,7 +104,9 @@ TEST_P(Conformance, FreeSpaceAndClearance) {
   EXPECT_TRUE(freeAt(*caster, {0, 0, 1.f}, 0.5f));
   EXPECT_FALSE(freeAt(*caster, {1.8f, 0, 1.f}, 0.3f));  // 0.2 m from the wall x = 2
   EXPECT_TRUE(freeAt(*caster, {1.6f, 0, 1.f}, 0.3f));   // 0.4 m from it
-  if (c.knows_interiors) EXPECT_FALSE(freeAt(*caster, {2.1f, 0, 1.f}, 0.f));  // inside the wall
+  if (c.knows_interiors) {
+    EXPECT_FALSE(freeAt(*caster, {2.1f, 0, 1.f}, 0.f));  // inside the wall
+  }
 }
 
 TEST_P(Conformance, SameAnswersOnOneAndTwoThreads) {
@@ -130,7 +133,9 @@ TEST_P(Conformance, ReportsItsMemory) {
   // The box room: a BSP of its merged faces needs under 1 KB, a 5 cm field or grid far more.
   EXPECT_GT(caster->memoryBytes(), 256u) << "a backend that says it holds nothing";
   EXPECT_LT(caster->memoryBytes(), size_t(1) << 30);
-  if (GetParam() == "embree") EXPECT_GT(caster->memoryBytes(), room.numTriangles() * 36) << "less than its copy of the mesh";
+  if (GetParam() == "embree") {
+    EXPECT_GT(caster->memoryBytes(), room.numTriangles() * 36) << "less than its copy of the mesh";
+  }
 }
 
 TEST_P(Conformance, AgreesWithEmbreeOnTheLab) {
