@@ -37,12 +37,20 @@ double particleClearance(const RobotSpec& robot, const MclConfig& mcl) {
   return std::max(0.0, robot.inscribedRadius() - mcl.clearance_margin);
 }
 
+void applyRobot(PolylocConfig& c, const RobotSpec& robot) {
+  if (c.vrs.robot_height == c.robot.height) c.vrs.robot_height = robot.height;
+  c.robot = robot;
+  c.mcl.motion.omni = robot.kinematics == Kinematics::Omni;
+  c.mcl.clearance = particleClearance(c.robot, c.mcl);
+}
+
 PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load) {
   ConfigMap m = ConfigMap::load(path);
   PolylocConfig c;
   c.file = path;
   if (m.has("map") || !load.map_optional) c.map = readMapConfig(m.value("map"), m);
-  c.robot = parseRobot(m.map("robot"));
+  applyRobot(c, parseRobot(m.map("robot")));
+  c.vrs.robot_height = c.robot.height;
   const bool recorded = !m.has("rig") || (m.value("rig").isScalar() && m.value("rig").asString() == "recorded");
   if (recorded && !load.recorded_rig) {
     if (!m.has("rig")) m.value("rig");  // the usual "missing key" error
@@ -52,9 +60,15 @@ PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load) {
   if (recorded) c.rig_from_recording = true;
   else c.rig = readRig(m.value("rig"), m);
   const Rig* rig = recorded ? nullptr : &c.rig;  // sensor names are checked when the rig is known
-  if (m.has("mcl")) c.mcl = parseMclConfig(m.map("mcl"), rig);
-  c.mcl.clearance = particleClearance(c.robot, c.mcl);
-  c.vrs.robot_height = c.robot.height;
+  if (m.has("mcl")) {
+    // mcl.motion.drive defaults to robot.kinematics; stated again it must say the same.
+    c.mcl = parseMclConfig(m.map("mcl"), rig, c.mcl);
+    if (c.mcl.motion.omni != (c.robot.kinematics == Kinematics::Omni))
+      m.map("mcl").map("motion").value("drive").fail(std::string("says ") + (c.mcl.motion.omni ? "omni" : "differential") +
+                                                     " but robot.kinematics is " + kinematicsName(c.robot.kinematics) +
+                                                     ": give it once, in robot.kinematics");
+    c.mcl.clearance = particleClearance(c.robot, c.mcl);
+  }
   if (m.has("vrs")) c.vrs = parseVrsConfig(m.map("vrs"), c.robot.height);
   if (m.has("tracking")) c.tracking = parseTrackingConfig(m.map("tracking"), rig);
   if (m.has("depth_filter")) c.depth_filter = parseDepthFilterConfig(m.map("depth_filter"));

@@ -8,6 +8,13 @@
 #include <sstream>
 
 namespace polyloc {
+namespace {
+
+// `beams_per_scan`, wherever it is a key (mcl, refine, fit, hypotheses, hypotheses.screen): one
+// meaning, one range. 0 takes every valid beam; more than 100,000 is no scanner.
+size_t beamsPerScan(ConfigMap& m, size_t current) { return m.getCount("beams_per_scan", current, 0, 100'000); }
+
+}  // namespace
 
 MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults) {
   MclConfig c = defaults;
@@ -98,7 +105,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
   c.range_bias = m.getBool("range_bias", c.range_bias);
   c.range_bias_gain = m.getDouble("range_bias_gain", c.range_bias_gain, 0, 1);
   c.range_bias_max = m.getDouble("range_bias_max", c.range_bias_max, 0, 10);
-  c.beams_per_scan = count("beams_per_scan", c.beams_per_scan);
+  c.beams_per_scan = beamsPerScan(m, c.beams_per_scan);
   c.effective_beams = m.getDouble("effective_beams", c.effective_beams, 0, 1e6);
   c.subsample = m.getChoice("subsample", c.subsample, {"uniform", "random"});
   c.update_min_distance = m.getDouble("update_min_distance", c.update_min_distance, 0, kBig);
@@ -154,9 +161,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     RefineConfig& rc = c.refine;
     rc.enabled = r.getBool("enabled", rc.enabled);
     rc.iterations = int(r.getCount("iterations", size_t(rc.iterations), 1, 1000));
-    const int64_t beams = r.getInt("beams_per_scan", int64_t(rc.beams_per_scan));
-    if (beams < 0) r.value("beams_per_scan").fail("must be >= 0 (0 = all)");
-    rc.beams_per_scan = size_t(beams);
+    rc.beams_per_scan = beamsPerScan(r, rc.beams_per_scan);
     rc.max_correspondence = r.getDouble("max_correspondence", rc.max_correspondence, 1e-4, 100);
     rc.huber = r.getDouble("huber", rc.huber, 1e-5, 100);
     rc.min_step = r.getDouble("min_step", rc.min_step, 0, 1);
@@ -190,7 +195,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     fc.max_seen_through = f.getDouble("max_seen_through", fc.max_seen_through, 0, 1);
     fc.min_explained = f.getDouble("min_explained", fc.min_explained, 0, 1);
     fc.smoothing = f.getDouble("smoothing", fc.smoothing, 1e-3, 1);
-    fc.beams_per_scan = f.getCount("beams_per_scan", fc.beams_per_scan, 0, 100'000);
+    fc.beams_per_scan = beamsPerScan(f, fc.beams_per_scan);
     f.finish();
   }
   if (m.has("hypotheses")) {
@@ -206,7 +211,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     gh.ratio_margin = h.getDouble("ratio_margin", gh.ratio_margin, 0, 1);
     gh.max_correction = h.getDouble("max_correction", gh.max_correction, 0, 100);
     gh.max_correction_yaw = h.getAngle("max_correction_yaw", gh.max_correction_yaw);
-    gh.beams_per_scan = h.getCount("beams_per_scan", gh.beams_per_scan, 1, 100'000);
+    gh.beams_per_scan = beamsPerScan(h, gh.beams_per_scan);
     gh.fresh = h.getCount("fresh", gh.fresh, 0, 10'000'000);
     if (h.has("screen")) {
       ConfigMap sm = h.map("screen");
@@ -219,7 +224,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
       if (sc.positions * sc.headings > kMaxPairs)
         sm.fail("positions x headings = " + std::to_string(sc.positions * sc.headings) + " exceeds " +
                 std::to_string(kMaxPairs) + " (the memory budget of one screening round, 12 bytes a pair)");
-      sc.beams_per_scan = sm.getCount("beams_per_scan", sc.beams_per_scan, 1, 100'000);
+      sc.beams_per_scan = beamsPerScan(sm, sc.beams_per_scan);
       sc.truncate = sm.getDouble("truncate", sc.truncate, 1e-3, 100);
       sc.resolution = sm.getDouble("resolution", sc.resolution, 0.01, 10);
       sm.finish();

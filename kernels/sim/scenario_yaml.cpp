@@ -335,7 +335,7 @@ Scenario loadScenarioAt(const std::string& path, int depth) {
       if (!m.has(key)) m.fail(std::string("missing key '") + key + "' (or give config: a polyloc configuration file)");
   }
   if (m.has("map")) s.config.map = readMapConfig(m.value("map"), m);
-  if (m.has("robot")) s.config.robot = parseRobot(m.value("robot").asMap());
+  if (m.has("robot")) applyRobot(s.config, parseRobot(m.value("robot").asMap()));
   if (m.has("rig")) s.config.rig = readRig(m.value("rig"), m);
   if (const auto seed = optionalSeed(m)) s.seed = *seed;
   if (m.has("start_time")) s.start_time_ns = parseStartTime(m.value("start_time"));

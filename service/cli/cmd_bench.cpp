@@ -185,7 +185,7 @@ void registerBench(CLI::App& app) {
   rc.add_option("--poses", args->poses, "Number of poses N")->capture_default_str()->check(positiveFinite());
   rc.add_option("--beams", args->beams, "Beams per pose B")->capture_default_str()->check(positiveFinite());
   addThreadsOption(rc, args->threads, "Worker threads T (0 = all cores)");
-  addHeightOption(rc, args->height, "Sensor height H above z = 0 (m)");
+  addSensorHeightOption(rc, args->height, "Sensor height H above z = 0 (m)");
   rc.add_option("--range-max", args->range_max, "Range limit (m)")->capture_default_str()->check(positiveFinite());
   rc.add_option("--repeat", args->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
   addSeedOption(rc, args->seed, "Seed of the random poses")->capture_default_str();

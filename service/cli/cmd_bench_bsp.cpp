@@ -241,12 +241,12 @@ void registerBenchBsp(CLI::App& bench) {
   c.add_option("--rays", a->rays, "Random rays of each kind")->capture_default_str()->check(positiveFinite());
   c.add_option("--points", a->points, "Random points for the point-in-solid test")->capture_default_str()->check(positiveFinite());
   addThreadsOption(c, a->threads, "Worker threads (0 = all cores; 1 compares with the thesis)");
-  addHeightOption(c, a->height, "Height of the ray origins (m)");
-  c.add_option("--clearance", a->clearance, "Robot radius of the second point test (m)")->capture_default_str();
+  addSensorHeightOption(c, a->height, "Height of the ray origins (m)");
+  c.add_option("--robot-radius", a->clearance, "Robot radius of the second point test (m)")->capture_default_str()->check(finiteRange(0.0, 100.0));
   c.add_option("--k", a->k, "BSP score weight k of k * splits + (1 - k) * imbalance")->capture_default_str()->check(finiteRange(0.f, 1.f));
   c.add_option("--max-candidates", a->max_candidates, "BSP planes scored per node (0 = all)")->capture_default_str();
   c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
-  c.add_option("--grid", a->grid, "grid2d resolutions (m) of the Bresenham rows (0: none)")
+  c.add_option("--grid-resolutions", a->grid, "grid2d resolutions (m) of the Bresenham rows (0: none)")
       ->capture_default_str()->delimiter(',');
   addSeedOption(c, a->seed, "Seed of the random rays and points")->capture_default_str();
   c.add_flag("--json", a->json, "Print one JSON object on stdout");

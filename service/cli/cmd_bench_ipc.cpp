@@ -28,7 +28,7 @@ namespace {
 struct BenchIpcArgs {
   IpcLatencyConfig config;
   double spin_us = shm::kDefaultSpinNs / 1000.0;
-  size_t rounds = 4;
+  size_t turns = 4;
   bool pin = true;
   bool json = false;
 };
@@ -87,14 +87,14 @@ void runBenchIpc(BenchIpcArgs a) {
                                   {"uds", udsLatency, 0},
                                   {"tcp", tcpLatency, 0},
                                   {"shm_spin", shmLatency, always_spin_ns}};
-  // In rounds, the transports taking turns: a change in the machine's load hits them alike.
+  // In turns, one transport after another: a change in the machine's load hits them alike.
   std::map<std::string, IpcSamples> all;
-  const size_t rounds = std::max<size_t>(1, std::min(a.rounds, c.messages));
+  const size_t turns = std::max<size_t>(1, std::min(a.turns, c.messages));
   IpcLatencyConfig rc = c;
-  for (size_t r = 0; r < rounds; ++r) {
-    rc.messages = c.messages / rounds + (r + 1 == rounds ? c.messages % rounds : 0);
+  for (size_t r = 0; r < turns; ++r) {
+    rc.messages = c.messages / turns + (r + 1 == turns ? c.messages % turns : 0);
     for (const Transport& x : transports) {
-      fmt::print(stderr, "bench ipc: round {}/{}: {} ({} messages of {} bytes, one per {} us)\n", r + 1, rounds, x.name,
+      fmt::print(stderr, "bench ipc: turn {}/{}: {} ({} messages of {} bytes, one per {} us)\n", r + 1, turns, x.name,
                  rc.messages, rc.bytes, rc.period_us);
       auto progress = [&, name = x.name](double f) {
         if (tty) fmt::print(stderr, "\r  {} {:3.0f} %", name, 100 * f);
@@ -118,7 +118,7 @@ void runBenchIpc(BenchIpcArgs a) {
   nlohmann::json j;
   j["message_bytes"] = c.bytes;
   j["messages"] = c.messages;
-  j["rounds"] = rounds;
+  j["turns"] = turns;
   j["period_us"] = c.period_us;
   j["spin_us"] = a.spin_us;
   j["writer_cpu"] = c.writer_cpu;
@@ -158,7 +158,7 @@ void registerBenchIpc(CLI::App& bench) {
   ipc.add_option("--period-us", a->config.period_us, "Time between messages (us)")->capture_default_str()->check(positiveFinite());
   ipc.add_option("--spin-us", a->spin_us, "shm: the reader spins this long before FUTEX_WAIT (Reader::wait)")
       ->capture_default_str()->check(nonNegativeFinite());
-  ipc.add_option("--rounds", a->rounds, "Rounds in which the transports take turns (messages split among them)")
+  ipc.add_option("--turns", a->turns, "Turns the transports take, one after another (messages split among them)")
       ->capture_default_str()->check(positiveFinite());
   ipc.add_flag("!--no-pin", a->pin, "Do not pin writer and reader to two CPUs");
   ipc.add_option("--rt-priority", a->config.rt_priority, "SCHED_FIFO priority of writer and reader (0: normal threads)")

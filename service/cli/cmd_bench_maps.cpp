@@ -205,7 +205,7 @@ void registerBenchMaps(CLI::App& bench) {
   c.add_option("--rays", a->rays, "Rays per workload (planar: rays / beams poses x beams)")->capture_default_str()->check(positiveFinite());
   c.add_option("--beams", a->beams, "Beams of the planar fan")->capture_default_str()->check(positiveFinite());
   c.add_option("--resolution", a->resolution, "Cell/voxel size of grid2d, distance3d, octomap (m)")->capture_default_str()->check(positiveFinite());
-  addHeightOption(c, a->height, "Sensor height of the planar rays and the grid2d slice (m)");
+  addSensorHeightOption(c, a->height, "Sensor height of the planar rays and the grid2d slice (m)");
   addThreadsOption(c, a->threads, "Worker threads (0 = all cores)");
   c.add_option("--repeat", a->repeat, "Timed runs; the best is reported")->capture_default_str()->check(positiveFinite());
   addSeedOption(c, a->seed, "Seed of the random rays and points")->capture_default_str();

@@ -153,7 +153,7 @@ void registerBenchMcl(CLI::App& bench) {
   c.add_option("--dof", args->dof, "3 or 6")->capture_default_str()->check(CLI::IsMember({3, 6}));
   addThreadsOption(c, args->threads, "Worker threads T (0 = all cores)");
   c.add_option("--updates", args->updates, "Timed updates")->capture_default_str()->check(positiveFinite());
-  addHeightOption(c, args->height, "Scanner height above base (m)");
+  addSensorHeightOption(c, args->height, "Scanner height above base (m)");
   addSeedOption(c, args->seed, "Seed")->capture_default_str();
   c.add_option("--model", args->model, "Measurement model (mcl.model)")->capture_default_str()->check(
       CLI::IsMember(sensorModelNames()));

@@ -130,7 +130,7 @@ void registerDemo(CLI::App& app) {
   demo.add_option("--map", args->map, "Map file (generated in memory if missing)")->capture_default_str();
   demo.add_option("--out", args->out, "PNG to write")->capture_default_str();
   demo.add_option("--poses", args->poses, "Number of robot poses")->capture_default_str()->check(finiteRange(1, 16));
-  addHeightOption(demo, args->height, "Scanner height (m)");
+  addSensorHeightOption(demo, args->height, "Scanner height (m)");
   addSeedOption(demo, args->seed, "Seed for picking free poses")->capture_default_str();
   demo.callback([args] { runDemo(*args); });
 }

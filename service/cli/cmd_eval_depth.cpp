@@ -1,8 +1,9 @@
 // polyloc eval depth: the depth filter against the tagged artefacts of a simulated run
 // (kernels/eval/depth_quality.hpp): the share of outlier pixels (flying pixels, reflection
 // outliers) removed and of valid pixels kept, combined and per filter stage.
-#include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
+#include "cli/common_options.hpp"
+#include "cli/parse_number.hpp"
 
 #include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/depth/config_yaml.hpp>
@@ -82,7 +83,7 @@ void registerEvalDepth(CLI::App& eval) {
   c.add_option("--config", a->config, "polyloc config or YAML with a depth_filter: section (default: the scenario's config)")
       ->check(CLI::ExistingFile);
   c.add_option("--sensor", a->sensor, "Depth camera of the rig (default: the first)");
-  c.add_option("--duration", a->duration, "Seconds simulated (default: the scenario's)")->check(finiteRange(0.0, 1e6));
+  addDurationOption(c, a->duration, "Simulated seconds", "the scenario");
   c.add_flag("--full-rig", a->full_rig, "Simulate every sensor of the rig, not only the camera");
   c.add_flag("--json", a->json, "Result as one JSON object on stdout");
   c.callback([a] { runEvalDepth(*a); });

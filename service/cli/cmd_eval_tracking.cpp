@@ -115,7 +115,7 @@ void registerEvalTracking(CLI::App& eval) {
   c.add_flag("--odometry", a->eval.odometry, "Poses from the simulated wheel odometry instead of the ground truth");
   c.add_option("--tracking", a->tracking, "YAML file whose tracking: section replaces the scenario config's")
       ->check(CLI::ExistingFile);
-  c.add_option("--duration", a->eval.duration, "Seconds simulated (default: the scenario's)")->check(finiteRange(0.0, 1e6));
+  addDurationOption(c, a->eval.duration, "Simulated seconds", "the scenario");
   addSeedOption(c, a->seed, "Overrides the scenario's seed");
   c.add_option("--match-distance", a->eval.match_distance, "CLEAR-MOT match threshold, m")->capture_default_str()->check(finiteRange(1e-3, 100.0));
   c.add_option("--min-beams", a->eval.min_beams, "Beams on a person for them to be visible")->capture_default_str()->check(finiteRange(0, 1e6));

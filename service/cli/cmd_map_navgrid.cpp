@@ -86,7 +86,7 @@ void run(const MapNavgridArgs& a) {
   HeightBandOptions o;
   o.resolution = a.resolution;
   o.clearance = a.has_clearance ? a.clearance : cfg ? cfg->vrs.floor_clearance : o.clearance;
-  o.height = a.has_height ? a.height : cfg->robot.height;  // without --config --height is required
+  o.height = a.has_height ? a.height : cfg->robot.height;  // without --config --robot-height is required
   if (cfg) o.danger_labels = cfg->vrs.danger_labels;
   const Mesh mesh = loadMesh(map_file, cfg ? cfg->map.load : LoadOptions{});
   HeightBandStats st;
@@ -148,16 +148,16 @@ void registerMapNavgrid(CLI::App& map) {
   c->add_option("--out", a->out, "Output map_server YAML; the image is OUT.pgm beside it")->required();
   // Ranges are the kernel's to check (heightBandGrid): one rule, one message naming the option.
   c->add_option("--resolution", a->resolution, "Cell size (m), in (0, 1]")->capture_default_str();
-  c->add_option("--clearance", a->clearance, "Lower is floor (m above the local floor); default vrs.floor_clearance, else 0.06");
-  c->add_option("--height", a->height, "Robot height (m above the local floor); default robot.height");
+  c->add_option("--floor-clearance", a->clearance, "Lower is floor (m above the local floor); default vrs.floor_clearance, else 0.06");
+  c->add_option("--robot-height", a->height, "Robot height (m above the local floor); default robot.height");
   c->add_flag("--no-preview", a->no_preview, "Do not write the preview OUT.png");
   c->add_flag("--json", a->json, "Print one JSON object on stdout");
   c->callback([a, c] {
-    a->has_clearance = c->count("--clearance") > 0;
-    a->has_height = c->count("--height") > 0;
+    a->has_clearance = c->count("--floor-clearance") > 0;
+    a->has_height = c->count("--robot-height") > 0;
     if (a->config.empty() && a->map.empty()) throw CLI::ValidationError("map navgrid", "give --config (and/or --map)");
     if (a->config.empty() && !a->has_height)
-      throw CLI::ValidationError("map navgrid", "without --config give the robot's --height (m)");
+      throw CLI::ValidationError("map navgrid", "without --config give the robot's --robot-height (m)");
     run(*a);
   });
 }

@@ -169,7 +169,7 @@ void registerPlay(CLI::App& app) {
   c->add_option("--scenario", a->scenario, "Scenario (maps/scenarios/*.yaml), simulated live")->check(CLI::ExistingFile);
   c->add_option("--shm", a->shm, "polylocd instance (segment /polyloc.NAME)")->required();
   c->add_option("--rate", a->rate, "Playback speed (1: real time)")->capture_default_str()->check(finiteRange(1e-3, 1e3));
-  c->add_option("--duration", a->duration, "s: stop after this much of the source (0: all)")->capture_default_str()->check(finiteRange(0.0, 1e7));
+  addDurationOption(*c, a->duration, "Seconds of the source to play", "the source");
   c->add_option("--wait", a->wait, "s to wait for polylocd's segment to appear")->capture_default_str()->check(finiteRange(0.0, 3600.0));
   c->add_option("--plot", a->plot, "PNG of map, ground truth and the poses polylocd published");
   addMapOption(*c, a->map, "Mesh for --plot when playing a recording");

@@ -206,7 +206,7 @@ void registerSimulate(CLI::App& app) {
   cmd.add_option("--scenario", args->scenario, "Scenario YAML (maps/scenarios/*.yaml)")->required()->check(CLI::ExistingFile);
   cmd.add_option("--out", args->out, "Recording to write: *.mcap, otherwise a ROS 2 bag directory");
   addSeedOption(cmd, args->seed, "Random seed (default: the scenario's)");
-  cmd.add_option("--duration", args->duration, "Simulated seconds (default: the scenario's)")->check(positiveFinite());
+  addDurationOption(cmd, args->duration, "Simulated seconds", "the scenario");
   cmd.add_option("--ground-truth", args->ground_truth, "Also write the ground truth as a TUM file");
   cmd.add_option("--plot", args->plot, "Draw the run as PNG: map, paths, one frame of every sensor");
   cmd.add_option("--plot-time", args->plot_time, "Time (s) of the sensor frames in the plot (default: middle)");

@@ -1,11 +1,15 @@
 // polyloc: the command-line front end to the kernels. `polyloc --help` lists the subcommands.
 #include "cli/commands.hpp"
+#include "cli/renamed_options.hpp"
 
 #include <fmt/core.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <cstdio>
 #include <exception>
+#include <string>
+#include <vector>
 
 int main(int argc, char** argv) {
   // Logs of the libraries (the live view's server, the protocol client) go to stderr: stdout is
@@ -34,8 +38,12 @@ int main(int argc, char** argv) {
   polyloc::cli::registerCtl(app);
   polyloc::cli::registerGpu(app);
 
+  // Old option names still work (with a warning): cli/renamed_options.hpp.
+  const std::vector<std::string> args = polyloc::cli::applyRenames(argc, argv, stderr);
+  std::vector<const char*> args_c;
+  for (const std::string& a : args) args_c.push_back(a.c_str());
   try {
-    app.parse(argc, argv);
+    app.parse(int(args_c.size()), args_c.data());
   } catch (const CLI::ParseError& e) {
     // --help exits 0; a usage error (unknown option, bad value) exits 2, as Unix tools do
     // (CLI11's own codes, 106 and the like, are documented nowhere a user looks).

@@ -8,7 +8,7 @@ polyloc=$1 src=$2
 # The runs of docs/benchmarks.md "The thesis's Table 6.1" (100,000 rays and points, seed 1, one
 # timed repetition instead of three: the errors do not depend on it; about 1 s each).
 # 0.25 m: at 0.3 m planar rays graze the top of the lab's loading platform (a tie, docs/raycast.md).
-out=$("$polyloc" bench bsp --map "$src/maps/lab.obj" --rays 100000 --points 100000 --height 0.25 --repeat 1 --json)
+out=$("$polyloc" bench bsp --map "$src/maps/lab.obj" --rays 100000 --points 100000 --sensor-height 0.25 --repeat 1 --json)
 echo "$out"
 for key in build_s memory_mb nodes depth rays_per_s_planar rays_per_s_3d point_queries_per_s agree_1mm_planar; do
   grep -q "\"$key\":" <<<"$out" || { echo "missing key $key"; exit 1; }
@@ -16,7 +16,7 @@ done
 grep -q '"embree":{' <<<"$out"
 # The thesis-sized model: the lab's walls, floor, doors, glass, ramp, tables and cabinets.
 small=$("$polyloc" bench bsp --map "$src/maps/lab.obj" --labels wall,floor,door,glass,ramp,table,cabinet \
-  --rays 100000 --points 100000 --height 0.25 --repeat 1 --json)
+  --rays 100000 --points 100000 --sensor-height 0.25 --repeat 1 --json)
 grep -q '"triangles":2056' <<<"$small"
 # The BSP is exact from free origins: range error median / p99 0 / 0, 100 % of the planar and 3D
 # rays within 1 mm of Embree (claimed for both models). The Bresenham rows (grid2d at 5, 4, 1 cm

@@ -4,6 +4,9 @@
 set -Eeuo pipefail
 trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+tmp_out=$tmp/out tmp_err=$tmp/err
 out=$("$polyloc" bench ipc --messages 300 --warmup 20 --period-us 100 --json)
 echo "$out"
 python3 - "$out" <<'PY'
@@ -24,6 +27,10 @@ PY
 # Another message size.
 out=$("$polyloc" bench ipc --messages 50 --warmup 5 --bytes 65536 --json)
 grep -q '"message_bytes":65536' <<<"$out"
+# --rounds was renamed --turns (eval's --rounds are filter rounds): the old name still runs, warned.
+"$polyloc" bench ipc --messages 20 --warmup 2 --rounds 2 --json > "$tmp_out" 2> "$tmp_err"
+grep -q "warning: --rounds is deprecated, use --turns" "$tmp_err"
+grep -q '"message_bytes":' "$tmp_out"
 # Too small a message is an error that names the option.
 if err=$("$polyloc" bench ipc --bytes 8 2>&1); then exit 1; fi
 grep -q -- '--bytes' <<<"$err"

@@ -70,17 +70,23 @@ again=$("$polyloc" map extrude --grid "$tmp/nav/lab.yaml" --out "$tmp/lab_walls.
 python3 -c 'import json,sys; a=json.loads(sys.argv[1]); b=json.loads(sys.argv[2]); assert a["cells_occupied"]==b["occupied_cells"] and b["cells_x"]==a["cells_x"], (a,b)' "$out" "$again"
 
 # One line without --json; a robot of 0.6 m passes under the table tops (0.75 m).
-line=$("$polyloc" map navgrid --config "$cfg" --height 0.6 --no-preview --out "$tmp/low.yaml")
+line=$("$polyloc" map navgrid --config "$cfg" --robot-height 0.6 --no-preview --out "$tmp/low.yaml")
 echo "$line"
 grep -Eq 'lab.obj: 556 x 316 cells at 0.05 m, band 0.06..0.6 m above the floor: [0-9]+ occupied' <<<"$line"
 [ ! -e "$tmp/low.png" ] && [ -s "$tmp/low.pgm" ] && [ -s "$tmp/low.danger.pgm" ]
-low=$("$polyloc" map navgrid --config "$cfg" --height 0.6 --no-preview --out "$tmp/low.yaml" --json)
+low=$("$polyloc" map navgrid --config "$cfg" --robot-height 0.6 --no-preview --out "$tmp/low.yaml" --json)
 python3 -c 'import json,sys; a=json.loads(sys.argv[1]); b=json.loads(sys.argv[2]); assert b["cells_occupied"] < a["cells_occupied"] - 1000, (a["cells_occupied"], b["cells_occupied"])' "$out" "$low"
+# The old names (--height was a sensor's height in bench and demo, --clearance a robot radius in
+# bench bsp): still taken, with a warning on stderr, to the same cells.
+old=$("$polyloc" map navgrid --config "$cfg" --height=0.6 --clearance 0.06 --no-preview --out "$tmp/old.yaml" --json 2> "$tmp/old.err")
+grep -q "warning: --height is deprecated, use --robot-height" "$tmp/old.err"
+grep -q "warning: --clearance is deprecated, use --floor-clearance" "$tmp/old.err"
+python3 -c 'import json,sys; a=json.loads(sys.argv[1]); b=json.loads(sys.argv[2]); assert a["cells_occupied"]==b["cells_occupied"] and b["height_m"]==0.6, (a,b)' "$low" "$old"
 # --map without --config: the robot's height must be given.
-"$polyloc" map navgrid --map "$src/maps/lab.obj" --height 1.2 --resolution 0.1 --no-preview --out "$tmp/m.yaml" >/dev/null
+"$polyloc" map navgrid --map "$src/maps/lab.obj" --robot-height 1.2 --resolution 0.1 --no-preview --out "$tmp/m.yaml" >/dev/null
 [ -s "$tmp/m.pgm" ]
 if err=$("$polyloc" map navgrid --map "$src/maps/lab.obj" --out "$tmp/n.yaml" 2>&1); then exit 1; fi
-grep -q "without --config give the robot's --height" <<<"$err"
+grep -q "without --config give the robot's --robot-height" <<<"$err"
 
 # Bad options: the message names the option and the value; nothing is written.
 for bad in 0 -0.05 2 nan; do
@@ -88,7 +94,7 @@ for bad in 0 -0.05 2 nan; do
   echo "$err"
   grep -q "resolution = $bad" <<<"$err"
 done
-if err=$("$polyloc" map navgrid --config "$cfg" --height 0.05 --out "$tmp/bad.yaml" 2>&1); then exit 1; fi
+if err=$("$polyloc" map navgrid --config "$cfg" --robot-height 0.05 --out "$tmp/bad.yaml" 2>&1); then exit 1; fi
 grep -q "height = 0.05: must be a finite number > clearance (0.06 m)" <<<"$err"
 if err=$("$polyloc" map navgrid --config "$cfg" --resolution abc --out "$tmp/bad.yaml" 2>&1); then exit 1; fi
 grep -q -- "--resolution" <<<"$err"
@@ -97,13 +103,13 @@ if err=$("$polyloc" map navgrid --config "$cfg" --out "$tmp/grid.pgm" 2>&1); the
 grep -q "expected a map_server YAML" <<<"$err"
 # A mesh with no floor label: the labels looked for and the labels it has.
 printf 'o wall\nv 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 2 3\n' >"$tmp/wall.obj"
-if err=$("$polyloc" map navgrid --map "$tmp/wall.obj" --height 1 --out "$tmp/w.yaml" 2>&1); then exit 1; fi
+if err=$("$polyloc" map navgrid --map "$tmp/wall.obj" --robot-height 1 --out "$tmp/w.yaml" 2>&1); then exit 1; fi
 grep -q "no walkable floor: no triangle labelled floor, ramp .*its labels: wall (1)" <<<"$err"
 
 # Never over the inputs: the map (a copy here) and the config stay as they were.
 before=$(md5sum "$cfg" "$src/maps/lab.obj")
 cp "$src/maps/lab.obj" "$tmp/lab.obj"
-if err=$("$polyloc" map navgrid --map "$tmp/lab.obj" --height 1.2 --out "$tmp/lab.obj" 2>&1); then exit 1; fi
+if err=$("$polyloc" map navgrid --map "$tmp/lab.obj" --robot-height 1.2 --out "$tmp/lab.obj" 2>&1); then exit 1; fi
 grep -q -- "--out $tmp/lab.obj is the input --map: refusing to overwrite it" <<<"$err"
 cmp "$tmp/lab.obj" "$src/maps/lab.obj"
 if err=$("$polyloc" map navgrid --config "$cfg" --out "$cfg" 2>&1); then exit 1; fi

@@ -110,6 +110,34 @@ TEST(MclConfigYaml, NumbersAreCheckedBeforeTheyAreNarrowed) {
   EXPECT_EQ(c.refine.iterations, 20);
 }
 
+TEST(MclConfigYaml, BeamsPerScanMeansTheSameInEverySection) {
+  // One key, one meaning: 0 takes every valid beam and 100,000 is the most, wherever it is set
+  // (mcl's own refused 0, refine's took any size, hypotheses' and the screen's refused 0).
+  ConfigMap m = ConfigMap::parse("mcl:\n  beams_per_scan: 0\n  refine: {beams_per_scan: 0}\n  fit: {beams_per_scan: 0}\n"
+                                 "  hypotheses: {beams_per_scan: 0, screen: {beams_per_scan: 0}}\n", "t.yaml");
+  const MclConfig c = parseMclConfig(m.map("mcl"));
+  EXPECT_EQ(c.beams_per_scan, 0u);
+  EXPECT_EQ(c.refine.beams_per_scan, 0u);
+  EXPECT_EQ(c.fit.beams_per_scan, 0u);
+  EXPECT_EQ(c.hypotheses.beams_per_scan, 0u);
+  EXPECT_EQ(c.hypotheses.screen.beams_per_scan, 0u);
+  for (const char* section : {"", "refine: ", "fit: ", "hypotheses: ", "hypotheses: {screen: "}) {
+    const std::string s = section;
+    const bool nested = s.find('{') != std::string::npos;
+    const std::string text = s.empty() ? "mcl:\n  beams_per_scan: 100001\n"
+                                       : "mcl:\n  " + s + "{beams_per_scan: 100001}" + (nested ? "}" : "") + "\n";
+    const std::string e = error(text);
+    EXPECT_NE(e.find("beams_per_scan: must be between 0 and 100000"), std::string::npos) << text << " -> " << e;
+  }
+  // 0 = all valid beams: what the samplers do with it.
+  BeamSet beams;
+  beams.range_min = 0.1f;
+  beams.range_max = 10.f;
+  for (int b = 0; b < 5; ++b) beams.push(1.f, 0.f, 0.f);
+  const std::vector<float> ranges{1.f, 0.f, 2.f, 3.f, 20.f};
+  EXPECT_EQ(BeamSensorModel::selectBeams(beams, ranges, 0).size(), 3u);
+}
+
 TEST(MclConfigYaml, GpuPlatformsAreCheckedWhenTheFileIs) {
   ConfigMap m = ConfigMap::parse("mcl:\n  gpu_platforms: surfaceless,vulkan\n", "t.yaml");
   try {

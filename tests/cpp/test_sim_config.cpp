@@ -143,6 +143,34 @@ TEST(SimConfig, BundledConfigsAndScenariosLoad) {
   EXPECT_EQ(tour.start_time_ns, 1700000000LL * 1000000000LL);
 }
 
+TEST(SimConfig, TheRobotIsStatedOnce) {
+  // robot.kinematics is the motion model's drive: an omni robot's filter moved its particles as a
+  // differential drive unless mcl.motion.drive said omni a second time.
+  test::TempDir dir;
+  const std::string map = kSource + "/maps/lab.obj";
+  const std::string omni = dir.write("omni.yaml", "map: " + map + "\nrig: lisa\nrobot: {radius: 0.3, kinematics: omni}\n"
+                                                  "mcl: {particles: 500}\n");
+  EXPECT_TRUE(loadConfig(omni).mcl.motion.omni);
+  EXPECT_FALSE(loadConfig(kSource + "/maps/config/lab.yaml").mcl.motion.omni);
+  // Stated twice and differently: an error at the second statement.
+  const std::string both = dir.write("both.yaml", "map: " + map + "\nrig: lisa\nrobot: {radius: 0.3, kinematics: omni}\n"
+                                                  "mcl:\n  motion: {drive: differential}\n");
+  const std::string e = errorOf([&] { loadConfig(both); });
+  EXPECT_NE(e.find(both + ":5:"), std::string::npos) << e;
+  EXPECT_NE(e.find("mcl.motion.drive: says differential but robot.kinematics is omni"), std::string::npos) << e;
+  // A scenario that replaces its config's robot: the clearance, the drive and the VRS height follow
+  // (they stayed the config's robot's).
+  const PolylocConfig lab = loadConfig(kSource + "/maps/config/lab.yaml");
+  const std::string sc = dir.write("big.yaml", "config: " + kSource + "/maps/config/lab.yaml\n"
+                                               "robot: {radius: 0.45, height: 1.6, kinematics: omni}\n"
+                                               "route: {waypoints: [[1, 2], [3, 2]]}\n");
+  const Scenario s = loadScenario(sc);
+  EXPECT_TRUE(s.config.mcl.motion.omni);
+  EXPECT_NEAR(s.config.mcl.clearance, particleClearance(s.config.robot, s.config.mcl), 1e-12);
+  EXPECT_GT(s.config.mcl.clearance, lab.mcl.clearance + 0.05);
+  EXPECT_DOUBLE_EQ(s.config.vrs.robot_height, 1.6);
+}
+
 TEST(SimConfig, ScenarioErrorsNameKeyFileAndLine) {
   test::TempDir dir;
   {

@@ -55,6 +55,12 @@ struct ConfigLoad {
 // (one robot size rules; loadConfig sets mcl.clearance to this).
 double particleClearance(const RobotSpec& robot, const MclConfig& mcl);
 
+// Sets c.robot and what the other sections take from it, so that a robot is stated once: the
+// particles' clearance, the motion model's drive (robot.kinematics) and the VRS's robot height
+// when it was the old robot's (a vrs.robot_height of its own stays). loadConfig uses it; so does
+// a scenario that replaces the robot of its config.
+void applyRobot(PolylocConfig& c, const RobotSpec& robot);
+
 // Throws ConfigError naming file, line and key (also when the map file does not exist, and for a
 // missing map or a recorded rig that `load` does not allow).
 PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load = {});
