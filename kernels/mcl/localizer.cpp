@@ -8,6 +8,7 @@
 #include <polyloc/mcl/estimate.hpp>
 #include <polyloc/mcl/fit_check.hpp>
 #include <polyloc/mcl/free_floor.hpp>
+#include <polyloc/mcl/global_search.hpp>
 #include <polyloc/mcl/hypotheses.hpp>
 #include <polyloc/mcl/localizer.hpp>
 #include <polyloc/mcl/motion_model.hpp>
@@ -19,7 +20,6 @@
 #include <polyloc/mcl/resample.hpp>
 #include <polyloc/mcl/reset_policy.hpp>
 #include <polyloc/mcl/round.hpp>
-#include <polyloc/mcl/scan_screen.hpp>
 #include <polyloc/mcl/weighing.hpp>
 
 #include <tbb/task_arena.h>
@@ -56,7 +56,7 @@ const char* toString(MclStatus s) {
 struct Localizer::Impl {
   Impl(const RayCaster& exact, const Mesh& m, const Rig& r, const MclConfig& cfg, const RayCaster* weigh)
       : caster(weigh ? *weigh : exact), exact(exact), rig(r), config(cfg), floor(exact, m, config), rng(cfg.seed),
-        bounds(m.bounds()), policy(config), odo_noise(cfg.motion.adapt) {
+        bounds(m.bounds()), policy(config), odo_noise(cfg.motion.adapt), search(caster, exact, m, rig, config) {
     const RayCaster& c = caster;
     for (const auto& s : rig.sensors) beams.push_back(s.beams());
     for (size_t k = 0; k < rig.size(); ++k) level.push_back(rig.isLevelScanner(k));
@@ -77,12 +77,6 @@ struct Localizer::Impl {
     for (size_t k = 0; k < rig.size(); ++k) awaited[k] = model_of[k] != nullptr;
     round = UpdateRound(config, std::move(awaited));
     if (config.threads > 0) arena.emplace(config.threads);
-    // Global localisation screens candidates with the level scanners' beams (scan_screen.hpp).
-    bool level = false;
-    for (size_t k = 0; k < rig.size(); ++k) level = level || (weighed[k] && rig.isLevelScanner(k));
-    if (level && !m.triangles.empty() && config.hypotheses.count > 0 && config.hypotheses.screen.keep > 0 &&
-        config.global_particles > 0)
-      screen = std::make_unique<ScanScreen>(m, weighingSliceHeight(rig, config), config.hypotheses.screen);
   }
 
   template <class F>
@@ -160,7 +154,7 @@ struct Localizer::Impl {
 
   // Global particles uniform over the free floor, equal weights.
   void drawUniform(uint64_t stream) {
-    tracked.clear();
+    search.restart();
     const std::vector<Pose> poses = floor.sampleFree(config.global_particles, rng, stream);
     resizeParticles(ps, poses.size());
     for (size_t i = 0; i < poses.size(); ++i) setParticle(ps, i, poses[i]), ps.logw[i] = -std::log(double(poses.size()));
@@ -314,19 +308,11 @@ struct Localizer::Impl {
   bool plantRefinedModes() {
     const std::vector<RefineScan> scans = roundScans();
     if (scans.empty()) return false;
-    if (screen && screen_positions.empty())
-      screen_positions = floor.sampleFree(config.hypotheses.screen.positions, rng, kScreenStream);
-    std::vector<Hypothesis> hyps = fittingModes(scans, screen_positions);
-    // More than one distinct place fits alike (a corridor seen both ways, twin rooms): the robot
-    // must move on before the filter commits.
-    size_t places = 0;
-    for (size_t i = 0; i < hyps.size(); ++i) {
-      bool distinct = true;
-      for (size_t k = 0; k < i && distinct; ++k) distinct = !samePlace(hyps[i].pose, hyps[k].pose);
-      places += distinct;
-    }
-    ambiguous = places > 1;
-    trackHypotheses(hyps);
+    GlobalRound g = search.round(scans, ps, odom_at_predict, floor, rng, kScreenStream);
+    // Several places fit alike: the robot must move on before the filter commits.
+    ambiguous = g.ambiguous;
+    best_hypothesis = g.best;
+    const std::vector<Hypothesis>& hyps = g.hypotheses;
     const size_t n = plantHypotheses(ps, hyps, config.hypotheses, rng, kPlantStream + step);
     if (n == 0) return false;
     counters.hypotheses += hyps.size();
@@ -334,23 +320,6 @@ struct Localizer::Impl {
     normalizeLogWeights(ps.logw);
     est.ess = effectiveSampleSize(ps.logw);
     return true;
-  }
-
-  // The cloud's modes and the best screened candidates at `positions` (every heading), refined;
-  // those whose beams see through the map's walls are wrong places, however many of their beams
-  // found a wall.
-  std::vector<Hypothesis> fittingModes(const std::vector<RefineScan>& scans, std::span<const Pose> positions,
-                                       double heading_window = 0) {
-    std::vector<Pose> screened;
-    if (screen && !positions.empty())
-      screened = screen->best(rig, scans, positions, config.hypotheses.separation, config.hypotheses.separation_yaw,
-                              heading_window);
-    std::vector<Hypothesis> hyps = refineModes(caster, rig, scans, ps, config.hypotheses, config.refine, screened);
-    std::erase_if(hyps, [&](const Hypothesis& h) {
-      return checkFit(exact, rig, scans, h.pose, config.fit.tolerance, config.fit.beams_per_scan).seenThrough() >
-             config.fit.max_seen_through;
-    });
-    return hyps;
   }
 
   // Local recovery (mcl.recovery): the round doubts the estimate; places near the prediction
@@ -371,7 +340,7 @@ struct Localizer::Impl {
         const double dx = i * config.recovery_step, dy = j * config.recovery_step;
         if (dx * dx + dy * dy <= radius * radius) positions.push_back(Pose::planar(dx, dy, 0) * predicted.planarProjection());
       }
-    std::vector<Hypothesis> hyps = fittingModes(scans, positions, window);
+    std::vector<Hypothesis> hyps = search.fittingModes(scans, ps, positions, window);
     // The cloud's modes are refined too: those outside the prediction's reach are not local.
     std::erase_if(hyps, [&](const Hypothesis& h) {
       return (h.pose.translation() - predicted.translation()).head<2>().norm() > radius + config.hypotheses.max_correction ||
@@ -468,15 +437,6 @@ struct Localizer::Impl {
     est.jumped = true;
     ++counters.jumps;
     if (est.status == MclStatus::Tracking) est.status = MclStatus::Uncertain;
-  }
-
-  // The refined modes matched to the places of earlier global rounds (hypotheses.hpp); the best
-  // place is the estimate while the global phase searches.
-  void trackHypotheses(const std::vector<Hypothesis>& hyps) {
-    if (tracked.empty()) tracked_odom = odom_at_predict;
-    trackPlaces(tracked, hyps, tracked_odom.inverse() * odom_at_predict);
-    tracked_odom = odom_at_predict;
-    if (const TrackedPlace* best = bestPlace(tracked)) best_hypothesis = best->pose;
   }
 
   // The round's frames cast from the estimate in the exact map (fit_check.hpp): do they see
@@ -584,12 +544,9 @@ struct Localizer::Impl {
   uint64_t step = 0;
   std::vector<double> w_slow, w_fast;  // augmented MCL likelihood averages, per rig sensor
   size_t current = 0;                  // sensor of the last update
+  GlobalSearch search;       // global localisation's places (and local recovery's candidates)
   bool ambiguous = false;    // the round's refined modes (global localisation) found several places
   std::optional<Pose> best_hypothesis;  // the best tracked place of this global round
-  std::vector<TrackedPlace> tracked;  // places of the global rounds since the last uniform prior
-  Pose tracked_odom;                  // odometry at which their poses hold
-  std::unique_ptr<ScanScreen> screen;  // null: no level scanner, or screening off
-  std::vector<Pose> screen_positions;  // its candidate places, drawn at the first global round
 };
 
 Localizer::Localizer(const RayCaster& caster, const Mesh& map, const Rig& rig, const MclConfig& config,
