@@ -75,5 +75,6 @@ void bindVrs(pb::module_& m);
 void bindTracking(pb::module_& m);
 void bindRecording(pb::module_& m);
 void bindShm(pb::module_& m);  // polyloc.shm: the shared-memory client (service/shm)
+void bindShmDaemon(pb::module_& m);  // polyloc.shm.daemon_channels: polylocd's channel table (after bindShm)
 
 }  // namespace polyloc::py

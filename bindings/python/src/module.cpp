@@ -29,4 +29,5 @@ PYBIND11_MODULE(_polyloc, m) {
   py::bindTracking(m);
   py::bindRecording(m);
   py::bindShm(m);  // the submodule _shm, re-exported by polyloc/shm.py as polyloc.shm
+  py::bindShmDaemon(m);
 }
