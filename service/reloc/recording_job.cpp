@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -164,8 +165,54 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
   std::set<std::string> unknown_topics, ignored_topics;  // a few, for the error when nothing matches the rig
   bool any_frame = false;
   Pose last_odom;  // odom_T_base of the newest odometry (the live view's map -> odom)
+  // Each frame is weighed after the odometry that covers its stamp (the first message at or after
+  // it), as polylocd does (docs/polylocd.md, "Odometry first"): its motion is interpolated, not
+  // extrapolated. A frame waits for that odometry at most kOdomWaitNs of the recording's time
+  // (a recording without odometry, or with a gap, goes on extrapolated).
+  constexpr int64_t kOdomWaitNs = 250'000'000;
+  struct Held {
+    size_t sensor;
+    int64_t stamp_ns;
+    std::vector<float> ranges;
+  };
+  std::deque<Held> held;
+  int64_t odom_ns = std::numeric_limits<int64_t>::min();  // stamp of the newest odometry
+  bool stop = false;
+  // One frame into the filter; its estimate, when it ended a round, into the results.
+  auto weigh = [&](size_t sensor, int64_t stamp_ns, std::span<const float> frame) {
+    bool updated = false;
+    if (o.on_frame) o.on_frame(sensor, stamp_ns, frame);
+    timed([&] { updated = loc.addScan(sensor, stamp_ns, frame); });
+    if (!updated) return;
+    const MclEstimate e = loc.estimate();
+    if (o.on_update) o.on_update(e, loc.particles(), last_odom);
+    if (e.stamp_ns < o.keep_from_ns || e.stamp_ns >= o.keep_to_ns) return;  // warm-up
+    res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles, e.seen_through, e.refined,
+                          e.map_fit});
+    if (o.stop_after_updates > 0 && e.updates >= o.stop_after_updates) stop = true;
+    if (!o.plot) return;
+    if (domain::validPose(e.pose)) res.plot.estimate_path.emplace_back(float(e.pose.x()), float(e.pose.y()));
+    if (next_cloud < 3 && double(e.stamp_ns - plot_from) >= next_cloud * plot_span / 3) {
+      res.plot.clouds.push_back(snapshot(e));
+      ++next_cloud;
+    } else if (next_cloud == 3 || next_cloud == 4) {  // the 4th cloud follows the last update
+      if (next_cloud == 4) res.plot.clouds.pop_back();
+      res.plot.clouds.push_back(snapshot(e));
+      next_cloud = 4;
+    }
+  };
+  // The held frames the odometry now covers, or that waited long enough for it (`now`: the
+  // newest stamp read), in the order they came.
+  auto release = [&](int64_t now) {
+    const int64_t waited = now > std::numeric_limits<int64_t>::min() + kOdomWaitNs ? now - kOdomWaitNs : now;
+    while (!held.empty() && !stop && (held.front().stamp_ns <= odom_ns || held.front().stamp_ns < waited)) {
+      const Held h = std::move(held.front());
+      held.pop_front();
+      weigh(h.sensor, h.stamp_ns, h.ranges);
+    }
+  };
   RecordedMessage m;
-  while (reader->next(m)) {
+  while (!stop && reader->next(m)) {
     if (m.log_time_ns < o.read_from_ns) continue;  // before this segment's warm-up
     if (m.log_time_ns >= o.keep_to_ns) break;      // the next segment's span
     ++read;
@@ -183,6 +230,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       if (!initialised && t >= start_after) initialise(t);
       last_odom = fromMsgPose(od->pose.pose);
       timed([&] { loc.addOdometry(t, last_odom); });
+      odom_ns = std::max(odom_ns, t);
+      release(t);
       continue;
     }
     const TopicRouter::Result r = router.route(m.topic, m.log_time_ns, m.message, ranges);
@@ -218,27 +267,12 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       }
       initialise(r.stamp_ns);
     }
-    bool updated = false;
-    if (o.on_frame) o.on_frame(static_cast<size_t>(r.sensor), r.stamp_ns, ranges);
-    timed([&] { updated = loc.addScan(static_cast<size_t>(r.sensor), r.stamp_ns, ranges); });
-    if (!updated) continue;
-    const MclEstimate e = loc.estimate();
-    if (o.on_update) o.on_update(e, loc.particles(), last_odom);
-    if (e.stamp_ns < o.keep_from_ns || e.stamp_ns >= o.keep_to_ns) continue;  // warm-up
-    res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles, e.seen_through, e.refined,
-                          e.map_fit});
-    if (o.stop_after_updates > 0 && e.updates >= o.stop_after_updates) break;
-    if (!o.plot) continue;
-    if (domain::validPose(e.pose)) res.plot.estimate_path.emplace_back(float(e.pose.x()), float(e.pose.y()));
-    if (next_cloud < 3 && double(e.stamp_ns - plot_from) >= next_cloud * plot_span / 3) {
-      res.plot.clouds.push_back(snapshot(e));
-      ++next_cloud;
-    } else if (next_cloud == 3 || next_cloud == 4) {  // the 4th cloud follows the last update
-      if (next_cloud == 4) res.plot.clouds.pop_back();
-      res.plot.clouds.push_back(snapshot(e));
-      next_cloud = 4;
-    }
+    const size_t sensor = static_cast<size_t>(r.sensor);
+    if (held.empty() && r.stamp_ns <= odom_ns) weigh(sensor, r.stamp_ns, ranges);
+    else held.push_back({sensor, r.stamp_ns, ranges});
+    release(r.stamp_ns);
   }
+  release(std::numeric_limits<int64_t>::max());  // the end: no more odometry comes
   if (o.progress) o.progress(1.0, loc.counters().updates);
   const ReadStats& rs = reader->stats();
   for (size_t i = 0; i < rs.warnings.size() && i < 5; ++i) res.warnings.push_back(rs.warnings[i]);
