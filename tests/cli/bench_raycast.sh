@@ -3,7 +3,7 @@
 set -Eeuo pipefail
 trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
-out=$("$polyloc" bench raycast --map "$src/maps/office.obj" --poses 200 --beams 32 --threads 2 --height 0.3 --repeat 1 --json)
+out=$("$polyloc" bench raycast --map "$src/maps/office.obj" --poses 200 --beams 32 --threads 2 --sensor-height 0.3 --repeat 1 --json)
 echo "$out"
 for key in rays_per_s mean_range_m rtcintersect1_rays_per_s ratio_vs_rtcintersect1 speedup_vs_1_thread; do
   grep -q "\"$key\":" <<<"$out" || { echo "missing key $key"; exit 1; }
