@@ -333,6 +333,8 @@ Scenario loadScenarioAt(const std::string& path, int depth) {
   } else if (!derived) {
     for (const char* key : {"map", "rig"})
       if (!m.has(key)) m.fail(std::string("missing key '") + key + "' (or give config: a polyloc configuration file)");
+    applyRobot(s.config, s.config.robot);  // the defaults' VRS height and clearance are the default robot's
+    s.config.vrs.robot_height = s.config.robot.height;
   }
   if (m.has("map")) s.config.map = readMapConfig(m.value("map"), m);
   if (m.has("robot")) applyRobot(s.config, parseRobot(m.value("robot").asMap()));

@@ -169,6 +169,12 @@ TEST(SimConfig, TheRobotIsStatedOnce) {
   EXPECT_NEAR(s.config.mcl.clearance, particleClearance(s.config.robot, s.config.mcl), 1e-12);
   EXPECT_GT(s.config.mcl.clearance, lab.mcl.clearance + 0.05);
   EXPECT_DOUBLE_EQ(s.config.vrs.robot_height, 1.6);
+  // Without a config: the VRS height is the scenario's robot's too (it was the default 1.2 m).
+  const std::string bare = dir.write("bare.yaml", "map: " + map + "\nrig: lisa\nrobot: {radius: 0.3, height: 0.8}\n"
+                                                  "route: {waypoints: [[1, 2], [3, 2]]}\n");
+  const Scenario b = loadScenario(bare);
+  EXPECT_DOUBLE_EQ(b.config.vrs.robot_height, 0.8);
+  EXPECT_NEAR(b.config.mcl.clearance, particleClearance(b.config.robot, b.config.mcl), 1e-12);
 }
 
 TEST(SimConfig, ScenarioErrorsNameKeyFileAndLine) {
