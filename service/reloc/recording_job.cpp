@@ -164,7 +164,6 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
 
   std::set<std::string> unknown_topics, ignored_topics;  // a few, for the error when nothing matches the rig
   bool any_frame = false;
-  Pose last_odom;  // odom_T_base of the newest odometry (the live view's map -> odom)
   // Each frame is weighed after the odometry that covers its stamp (the first message at or after
   // it), as polylocd does (docs/polylocd.md, "Odometry first"): its motion is interpolated, not
   // extrapolated. A frame waits for that odometry at most kOdomWaitNs of the recording's time
@@ -185,7 +184,7 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
     timed([&] { updated = loc.addScan(sensor, stamp_ns, frame); });
     if (!updated) return;
     const MclEstimate e = loc.estimate();
-    if (o.on_update) o.on_update(e, loc.particles(), last_odom);
+    if (o.on_update) o.on_update(e, loc.particles(), loc.odometryAt(e.stamp_ns));
     if (e.stamp_ns < o.keep_from_ns || e.stamp_ns >= o.keep_to_ns) return;  // warm-up
     res.frames.push_back({e.stamp_ns, e.pose, e.covariance, e.status, e.ess, e.particles, e.seen_through, e.refined,
                           e.map_fit});
@@ -228,8 +227,8 @@ JobResult runRecordingJob(const JobContext& ctx, const JobOptions& o) {
       stamps.add(m.topic, messageStamp(m), read - 1);
       const int64_t t = msg::toNs(od->header.stamp) ? msg::toNs(od->header.stamp) : m.log_time_ns;
       if (!initialised && t >= start_after) initialise(t);
-      last_odom = fromMsgPose(od->pose.pose);
-      timed([&] { loc.addOdometry(t, last_odom); });
+      const Pose odom_T_base = fromMsgPose(od->pose.pose);
+      timed([&] { loc.addOdometry(t, odom_T_base); });
       odom_ns = std::max(odom_ns, t);
       release(t);
       continue;

@@ -66,7 +66,7 @@ struct JobOptions {
   // Warnings (once per kind) and notes as they come, without the "polyloc ...:" prefix.
   std::function<void(const std::string&)> log;
   // Live hooks (polyloc localize --live), from this thread: each range frame the filter takes,
-  // and each measurement update with the particles and the newest odometry pose.
+  // and each measurement update with the particles and the odometry at the estimate's stamp.
   std::function<void(size_t sensor, int64_t stamp_ns, std::span<const float> ranges)> on_frame;
   std::function<void(const MclEstimate&, const ParticleSet&, const Pose& odom_T_base)> on_update;
 };
