@@ -244,6 +244,7 @@ struct Localizer::Impl {
     const uint64_t reloc_at_round = counters.relocalizations;
     est.stamp_ns = round.stamp;  // the particles are at the odometry of the last frame weighed
     const bool global_round = policy.beginRound();
+    est.global_round = global_round ? uint32_t(policy.globalRounds()) : 0;
     // Only right after a uniform prior: planting refined modes while tracking through a crowd
     // (uncertain, weighed coarse) moves a good cloud onto fits that people distort.
     ambiguous = false;
@@ -656,6 +657,7 @@ bool Localizer::addScan(size_t sensor, int64_t stamp, std::span<const float> ran
 }
 
 MclEstimate Localizer::estimate() const { return impl_->est; }
+bool Localizer::searching() const { return impl_->initialised && impl_->policy.coarse(); }
 const ParticleSet& Localizer::particles() const { return impl_->ps; }
 const MclCounters& Localizer::counters() const { return impl_->counters; }
 const MclConfig& Localizer::config() const { return impl_->config; }

@@ -215,7 +215,7 @@ nlohmann::json PlayFeed::resultJson() const {
     }
     j["polylocd"] = {{"cycles", health_->cycles}, {"poses", health_->poses}, {"vrs", health_->vrs},
                      {"tracks", health_->tracks}, {"cycle_p50_ms", health_->cycle_p50_ms},
-                     {"cycle_p99_ms", health_->cycle_p99_ms}, {"unfit", bool(health_->flags & 4u)}, {"inputs", inputs}};
+                     {"cycle_p99_ms", health_->cycle_p99_ms}, {"unfit", bool(health_->flags & 4u)}, {"searching", bool(health_->flags & 8u)}, {"inputs", inputs}};
   }
   return j;
 }

@@ -39,6 +39,7 @@ struct Daemon::Impl final : PipelineSink {
   uint64_t jumps = 0;                    // of clock: source
   PipelineCounters earlier;              // outputs of the pipelines a time jump replaced
   int64_t last_health_ns = 0;
+  uint32_t search_round = 0;             // the global search's last round (0: not searching)
   std::vector<uint8_t> out;              // payload being built
 
   Impl(Daemon& daemon, shm::Segment s)
@@ -86,8 +87,20 @@ struct Daemon::Impl final : PipelineSink {
 
   const polyloc_channel_desc& desc(int input) const { return seg.channel(d.table_.inputs[size_t(input)]); }
 
+  // How far a global search is (health flags bit 3 while it runs): each of its rounds, and its end.
+  void logSearch(const MclEstimate& e) {
+    const size_t most = d.cfg_.polyloc.mcl.global_max_coarse_rounds;
+    if (e.global_round > 0)
+      spdlog::info("global search: round {} of at most {}, {} particles, {}", e.global_round, most, e.particles, toString(e.status));
+    else if (search_round > 0)
+      spdlog::info("global search: ended after {} rounds, {} at ({:.2f}, {:.2f}, yaw {:.1f} deg)", search_round,
+                   toString(e.status), e.pose.x(), e.pose.y(), rad2deg(e.pose.yaw()));
+    search_round = e.global_round;
+  }
+
   // --- outputs (PipelineSink) ---
   void onPose(const MclEstimate& e, const Pose& map_T_odom) override {
+    logSearch(e);
     const polyloc_pose p = posePayload(e, map_T_odom, clockNs(CLOCK_MONOTONIC) - current_publish_ns);
     w_pose->write(&p, sizeof p, e.stamp_ns);
     d.live_->update([&](LiveState::Snapshot& s) { s.pose = p; });
@@ -230,6 +243,7 @@ struct Daemon::Impl final : PipelineSink {
       const MclEstimate e = pipe->localizer().estimate();
       if (e.status == MclStatus::Lost) h.flags |= 2u;
       if (e.unfit) h.flags |= 4u;
+      if (pipe->localizer().searching()) h.flags |= 8u;
       for (size_t k = 0; k < e.sensor_fit.size() && k < d.table_.sensor_channel.size(); ++k) {
         const auto it = std::find(d.table_.inputs.begin(), d.table_.inputs.end(), d.table_.sensor_channel[k]);
         if (it != d.table_.inputs.end() && e.sensor_fit[k] >= 0)

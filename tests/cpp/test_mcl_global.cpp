@@ -58,6 +58,37 @@ TEST(MclGlobal, ConvergesFromUniformPrior) {
   EXPECT_EQ(e.status, MclStatus::Tracking);
 }
 
+TEST(MclGlobal, EstimatesSayHowFarTheSearchIs) {
+  // polylocd's health (flags bit 3) and log say a global search runs and which round it is at.
+  const Mesh mesh = asymmetricRoom();
+  EmbreeCaster caster(mesh);
+  const Rig rig = scannerRig();
+  const MclConfig cfg = globalConfig();
+  Localizer loc(caster, mesh, rig, cfg);
+  loc.initGlobal(0);
+  EXPECT_EQ(loc.estimate().global_round, 0u);  // no round closed yet
+  EXPECT_TRUE(loc.searching());
+  const auto truth = loopTrajectory(40);
+  const Pose map_T_odom = Pose::planar(0.7, -0.3, 0.5);
+  std::vector<uint32_t> rounds;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const int64_t t = int64_t(i) * 100'000'000;
+    loc.addOdometry(t, map_T_odom.inverse() * truth[i]);
+    if (loc.addScan(0, t, simulateScan(caster, rig.sensors[0], truth[i], 0.01, i))) rounds.push_back(loc.estimate().global_round);
+  }
+  // 1, 2, ..., k (at least the coarse rounds, at most the most), then 0 for good.
+  ASSERT_GT(rounds.size(), cfg.global_max_coarse_rounds + 2);
+  size_t k = 0;
+  while (k < rounds.size() && rounds[k] == k + 1) ++k;
+  EXPECT_GE(k, cfg.global_coarse_rounds);
+  EXPECT_LE(k, cfg.global_max_coarse_rounds);
+  for (size_t i = k; i < rounds.size(); ++i) EXPECT_EQ(rounds[i], 0u) << i;
+  EXPECT_EQ(loc.estimate().status, MclStatus::Tracking);
+  EXPECT_FALSE(loc.searching());
+  loc.initPose(truth.back(), planarCov(0.05, 0.02), int64_t(truth.size()) * 100'000'000);
+  EXPECT_FALSE(loc.searching());
+}
+
 TEST(MclGlobal, RecoversFromKidnapping) {
   const Mesh mesh = asymmetricRoom();
   EmbreeCaster caster(mesh);

@@ -217,6 +217,7 @@ pb::dict frameDict(const shm::FrameInfo& f, const std::vector<uint8_t>& buf, con
       d["cycles"] = h.cycles, d["poses"] = h.poses, d["vrs"] = h.vrs, d["tracks"] = h.tracks;
       d["cycle_p50_ms"] = h.cycle_p50_ms, d["cycle_p99_ms"] = h.cycle_p99_ms;
       d["flags"] = h.flags, d["silent"] = (h.flags & 1u) != 0, d["lost"] = (h.flags & 2u) != 0;
+      d["searching"] = (h.flags & 8u) != 0;  // a global search is running
       pb::dict in;
       for (uint32_t i = 0; i < std::min(h.inputs, POLYLOC_MAX_INPUTS); ++i) {
         const polyloc_input_health& e = h.input[i];

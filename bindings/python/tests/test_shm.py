@@ -133,7 +133,7 @@ def test_round_trip_of_every_kind(instance):
         writers["health"].write_health(t + 7, health)
         f = readers["health"].next()
         assert f["stamp_ns"] == t + 7 and f["cycles"] == 10 and f["cycle_p99_ms"] == 4.25
-        assert f["flags"] == 1 and f["silent"] and not f["lost"]
+        assert f["flags"] == 1 and f["silent"] and not f["lost"] and not f["searching"]
         assert list(f["inputs"]) == ["scan/front", "depth/tof", "odom"]  # every input, in channel order
         assert f["inputs"]["odom"] == {"taken": 9, "rejected_nan": 0, "rejected_size": 0, "rejected_stale": 1,
                                        "rejected_future": 0, "overruns": 2, "last_stamp_ns": t, "silent": True,

@@ -52,6 +52,9 @@ struct MclEstimate {
   bool recovered = false;   // this round planted local recovery hypotheses (mcl.recovery)
   bool jumped = false;      // this round's pose moved more than mcl.max_jump beyond the odometry
   bool inconsistent = false;  // the refined pose failed the innovation gate (mcl.innovation_gate)
+  // Global localisation in progress: the coarse round this estimate closed (1, 2, ...; at most
+  // mcl.global_max_coarse_rounds); 0: not searching.
+  uint32_t global_round = 0;
 };
 
 // Counted rejections and events, for logs and the health channel.
@@ -105,6 +108,8 @@ class Localizer {
   bool addScan(size_t sensor, int64_t stamp_ns, std::span<const float> ranges);
 
   MclEstimate estimate() const;
+  // A global search runs: from a uniform prior (initGlobal, relocalisation) until its last round.
+  bool searching() const;
   const ParticleSet& particles() const;
   const MclCounters& counters() const;
   const MclConfig& config() const;

@@ -18,6 +18,7 @@ class ResetPolicy {
   void reset();        // the filter was re-initialised: no coarse rounds, nothing counted
   void startGlobal();  // a uniform prior was drawn: its coarse rounds begin
   bool coarse() const { return coarse_left_ > 0; }  // the next frames are weighed coarse
+  size_t globalRounds() const { return global_rounds_; }  // coarse rounds since the last uniform prior
 
   // A round closes. True: one of the rounds right after a uniform prior (global localisation).
   bool beginRound();
