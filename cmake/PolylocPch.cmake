@@ -17,3 +17,19 @@ function(polyloc_pch target)
   endforeach()
   target_precompile_headers(${target} PRIVATE ${_headers})
 endfunction()
+
+# Unity builds: the files of a target compiled in batches, one translation unit per batch, so
+# that the headers every file includes (CLI11, whose header-only code is parsed in 4 s and
+# generated again in each file; gtest; pybind11) are parsed and their inline code generated once
+# per batch. Measured on 2 cores: two test files 14.2 s apart, 10.6 s as one batch. The code is
+# the same; a file's helpers live in a named namespace of their own, not an anonymous one, so
+# that batched files do not clash. -DPOLYLOC_UNITY=OFF compiles file by file (faster when
+# editing one file; CI and `make test` build everything once).
+option(POLYLOC_UNITY "Compile the CLI, the tests and the Python module in batches (unity build)" ON)
+
+# polyloc_unity(TARGET BATCH): BATCH files per translation unit.
+function(polyloc_unity target batch)
+  if(POLYLOC_UNITY)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${batch})
+  endif()
+endfunction()

@@ -36,36 +36,47 @@ ScanMapper::ScanMapper(const ScanMapperConfig& c) : config_(c) {
 
 bool ScanMapper::reserve(int64_t i0, int64_t j0, int64_t i1, int64_t j1) {
   if (w_ > 0 && i0 >= ox_ && j0 >= oy_ && i1 < ox_ + int64_t(w_) && j1 < oy_ + int64_t(h_)) return true;
-  // Grow in large steps (half the current size, at least kMinGrowth) on the sides that need it,
-  // so that a robot driving on costs a copy per doubling, not one per scan.
   const auto span = [](int64_t lo, int64_t hi) { return hi - lo + 1; };
-  int64_t ni0 = i0, nj0 = j0, ni1 = i1, nj1 = j1;
-  if (w_ > 0) {
-    const int64_t gx = std::max<int64_t>(kMinGrowth, int64_t(w_) / 2), gy = std::max<int64_t>(kMinGrowth, int64_t(h_) / 2);
-    const int64_t ci1 = ox_ + int64_t(w_) - 1, cj1 = oy_ + int64_t(h_) - 1;
-    ni0 = i0 < ox_ ? std::min(i0, ox_ - gx) : ox_;
-    nj0 = j0 < oy_ ? std::min(j0, oy_ - gy) : oy_;
-    ni1 = i1 > ci1 ? std::max(i1, ci1 + gx) : ci1;
-    nj1 = j1 > cj1 ? std::max(j1, cj1 + gy) : cj1;
-  } else {
-    ni0 -= kMinGrowth, nj0 -= kMinGrowth, ni1 += kMinGrowth, nj1 += kMinGrowth;
-  }
-  const auto fits = [&] { return double(span(ni0, ni1)) * double(span(nj0, nj1)) <= double(config_.max_cells); };
-  if (!fits()) {  // no room for the margin: exactly what is needed, if that fits
-    ni0 = w_ > 0 ? std::min(i0, ox_) : i0;
-    nj0 = w_ > 0 ? std::min(j0, oy_) : j0;
-    ni1 = w_ > 0 ? std::max(i1, ox_ + int64_t(w_) - 1) : i1;
-    nj1 = w_ > 0 ? std::max(j1, oy_ + int64_t(h_) - 1) : j1;
-    if (!fits()) return false;
-  }
+  const auto fits = [this, &span](int64_t a0, int64_t b0, int64_t a1, int64_t b1) {
+    return double(span(a0, a1)) * double(span(b0, b1)) <= double(config_.max_cells);
+  };
+  // What must be held: the cells observed so far (every touched cell lies in their bounds) and
+  // this scan's. Whether a scan is taken depends on that alone, not on the margins allocated.
+  int64_t ei0 = i0, ej0 = j0, ei1 = i1, ej1 = j1;
+  if (seen_i1_ >= seen_i0_)
+    ei0 = std::min(ei0, seen_i0_), ej0 = std::min(ej0, seen_j0_), ei1 = std::max(ei1, seen_i1_), ej1 = std::max(ej1, seen_j1_);
+  if (!fits(ei0, ej0, ei1, ej1)) return false;
+  // Grow in large steps (half the current size, at least kMinGrowth) on the sides that need it,
+  // so that a robot driving on costs a copy per doubling, not one per scan; near max_cells the
+  // margin is halved until it fits (growing to the exact size would copy the grid every scan).
+  const int64_t gx = std::max<int64_t>(kMinGrowth, int64_t(w_) / 2), gy = std::max<int64_t>(kMinGrowth, int64_t(h_) / 2);
+  const bool have = w_ > 0;
+  const int64_t mi0 = !have || i0 < ox_ ? gx : 0, mj0 = !have || j0 < oy_ ? gy : 0;
+  const int64_t mi1 = !have || i1 >= ox_ + int64_t(w_) ? gx : 0, mj1 = !have || j1 >= oy_ + int64_t(h_) ? gy : 0;
+  int64_t ni0 = ei0, nj0 = ej0, ni1 = ei1, nj1 = ej1;
+  for (int shift = 0; shift < 40; ++shift)
+    if (fits(ei0 - (mi0 >> shift), ej0 - (mj0 >> shift), ei1 + (mi1 >> shift), ej1 + (mj1 >> shift))) {
+      ni0 = ei0 - (mi0 >> shift), nj0 = ej0 - (mj0 >> shift), ni1 = ei1 + (mi1 >> shift), nj1 = ej1 + (mj1 >> shift);
+      break;
+    }
   const size_t nw = size_t(span(ni0, ni1)), nh = size_t(span(nj0, nj1));
-  std::vector<float> lo(nw * nh, 0.f);
-  std::vector<uint32_t> last(nw * nh, 0);
-  for (size_t y = 0; y < h_; ++y) {
-    const size_t to = (size_t(oy_ - nj0) + y) * nw + size_t(ox_ - ni0);
-    std::copy_n(logodds_.begin() + y * w_, w_, lo.begin() + to);
-    std::copy_n(last_scan_.begin() + y * w_, w_, last.begin() + to);
-  }
+  ZeroBuffer<float> lo(nw * nh);
+  ZeroBuffer<uint32_t> last(nw * nh);
+  // Copy the old buffers' part inside the new bounds (it holds every observed cell), skipping
+  // the runs never observed: they are zero in both, and leaving them unwritten keeps them free.
+  const int64_t ci0 = std::max(ox_, ni0), ci1 = std::min(ox_ + int64_t(w_) - 1, ni1);
+  const int64_t cj0 = std::max(oy_, nj0), cj1 = std::min(oy_ + int64_t(h_) - 1, nj1);
+  constexpr int64_t kRun = 1024;  // cells: a page of each buffer
+  if (have && ci0 <= ci1)
+    for (int64_t j = cj0; j <= cj1; ++j)
+      for (int64_t i = ci0; i <= ci1; i += kRun) {
+        const size_t from = size_t(j - oy_) * w_ + size_t(i - ox_), to = size_t(j - nj0) * nw + size_t(i - ni0);
+        const int64_t n = std::min(kRun, ci1 - i + 1);
+        const uint32_t* seen = last_scan_.data() + from;
+        if (std::all_of(seen, seen + n, [](uint32_t v) { return v == 0; })) continue;
+        std::copy_n(logodds_.data() + from, n, lo.data() + to);
+        std::copy_n(seen, n, last.data() + to);
+      }
   logodds_ = std::move(lo);
   last_scan_ = std::move(last);
   ox_ = ni0, oy_ = nj0, w_ = nw, h_ = nh;

@@ -24,7 +24,7 @@
 #include <memory>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_bench_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct BenchRaycastArgs {
   std::string map;
@@ -172,9 +172,10 @@ void runBenchRaycast(const BenchRaycastArgs& a) {
   fmt::print("  mean range {:.3f} m, hits {:.1f} %\n", sum / rays, 100.0 * hits / rays);
 }
 
-}  // namespace
+}  // namespace cmd_bench_impl
 
 void registerBench(CLI::App& app) {
+  using namespace cmd_bench_impl;
   CLI::App& bench = *app.add_subcommand("bench", "Measure kernels (results as JSON with --json)");
   bench.require_subcommand(1);
   auto args = std::make_shared<BenchRaycastArgs>();

@@ -24,7 +24,7 @@
 #include <sstream>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_bench_bsp_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct BenchBspArgs {
   std::string map;
@@ -229,9 +229,10 @@ void runBenchBsp(const BenchBspArgs& a) {
                g["range_err_median_m_planar"].get<double>());
 }
 
-}  // namespace
+}  // namespace cmd_bench_bsp_impl
 
 void registerBenchBsp(CLI::App& bench) {
+  using namespace cmd_bench_bsp_impl;
   auto a = std::make_shared<BenchBspArgs>();
   CLI::App& c = *bench.add_subcommand(
       "bsp", "Solid-leaf BSP vs Embree on one map: build, memory, rays/s (planar at height H and 3D, "

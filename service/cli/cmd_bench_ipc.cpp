@@ -23,7 +23,7 @@ using engines::IpcSamples;
 using engines::shmLatency;
 using engines::tcpLatency;
 using engines::udsLatency;
-namespace {
+namespace cmd_bench_ipc_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct BenchIpcArgs {
   IpcLatencyConfig config;
@@ -145,9 +145,10 @@ void runBenchIpc(BenchIpcArgs a) {
              a.spin_us, ratio, always_spin_ns * 1e-3, ratio_spin);
 }
 
-}  // namespace
+}  // namespace cmd_bench_ipc_impl
 
 void registerBenchIpc(CLI::App& bench) {
+  using namespace cmd_bench_ipc_impl;
   auto a = std::make_shared<BenchIpcArgs>();
   CLI::App& ipc = *bench.add_subcommand(
       "ipc", "One-way latency writer -> sleeping reader: shm channel (futex), UNIX socket, loopback TCP");

@@ -27,7 +27,7 @@
 #include <sstream>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_bench_maps_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct BenchMapsArgs {
   std::string map, backends, markdown, localize;
@@ -193,9 +193,10 @@ void runBenchMaps(const BenchMapsArgs& a) {
   else fmt::print("{}", markdownTable(out));
 }
 
-}  // namespace
+}  // namespace cmd_bench_maps_impl
 
 void registerBenchMaps(CLI::App& bench) {
+  using namespace cmd_bench_maps_impl;
   auto a = std::make_shared<BenchMapsArgs>();
   CLI::App& c = *bench.add_subcommand(
       "maps", "Map representations side by side (embree, grid2d, distance3d, octomap, ...): build "

@@ -21,7 +21,7 @@
 #include <memory>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_bench_mcl_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct BenchMclArgs {
   std::string map;
@@ -142,9 +142,10 @@ void runBenchMcl(const BenchMclArgs& a) {
              mcl_rays_per_s / best);
 }
 
-}  // namespace
+}  // namespace cmd_bench_mcl_impl
 
 void registerBenchMcl(CLI::App& bench) {
+  using namespace cmd_bench_mcl_impl;
   auto args = std::make_shared<BenchMclArgs>();
   CLI::App& c = *bench.add_subcommand("mcl", "Measurement updates/s of the MCL localiser");
   addMapOption(c, args->map, "Map file (OBJ, PLY, STL, glTF, DAE)")->required();

@@ -18,7 +18,7 @@
 #include <stdexcept>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_ctl_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 using nlohmann::json;
 using protocol::Frame;
@@ -233,9 +233,10 @@ void run(const CtlArgs& a) {
     printText(out);
 }
 
-}  // namespace
+}  // namespace cmd_ctl_impl
 
 void registerCtl(CLI::App& app) {
+  using namespace cmd_ctl_impl;
   auto args = std::make_shared<CtlArgs>();
   CLI::App* cmd = app.add_subcommand("ctl", "Query or command a running polylocd over its TCP control port");
   cmd->add_option("--port", args->port, "Control port of polylocd")->required();

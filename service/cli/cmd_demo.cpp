@@ -21,7 +21,7 @@
 #include <memory>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_demo_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct DemoArgs {
   std::string map = "maps/lab.obj";
@@ -121,9 +121,10 @@ void runDemo(const DemoArgs& a) {
   fmt::print("== wrote {} ({}x{} px)\n", a.out, view.width(), view.height());
 }
 
-}  // namespace
+}  // namespace cmd_demo_impl
 
 void registerDemo(CLI::App& app) {
+  using namespace cmd_demo_impl;
   auto args = std::make_shared<DemoArgs>();
   CLI::App& demo = *app.add_subcommand(
       "demo", "Scan the bundled lab from a few poses: map summary, ranges, PNG top view with rays");

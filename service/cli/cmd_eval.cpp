@@ -23,7 +23,7 @@
 #include <filesystem>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_eval_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct EvalArgs {
   std::string scenario, plot;
@@ -125,9 +125,10 @@ void addOptions(CLI::App& c, EvalArgs& a, bool kidnap) {
   c.add_flag("--json", a.json, "Summary as one JSON object on stdout");
 }
 
-}  // namespace
+}  // namespace cmd_eval_impl
 
 void registerEval(CLI::App& app) {
+  using namespace cmd_eval_impl;
   CLI::App& eval = *app.add_subcommand("eval", "Trials on simulated runs (global localisation, kidnapping, people tracking, depth filtering) and on real logs (carmen)");
   eval.require_subcommand(1);
   auto g = std::make_shared<EvalArgs>();

@@ -27,7 +27,7 @@
 #include <fstream>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_eval_carmen_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct Args {
   reloc::CarmenEvalOptions eval;
@@ -117,9 +117,10 @@ void run(Args a) {
   if (!a.strips.empty()) fmt::print("strips     {}\n", a.strips);
 }
 
-}  // namespace
+}  // namespace cmd_eval_carmen_impl
 
 void registerEvalCarmen(CLI::App& eval) {
+  using namespace cmd_eval_carmen_impl;
   auto a = std::make_shared<Args>();
   CLI::App& c = *eval.add_subcommand("carmen", "Localisation on a real CARMEN log with corrected poses: maps from the even scans, odd scans localised");
   c.add_option("--log", a->eval.log, "CARMEN log with corrected poses (.log, .gz)")->required()->check(CLI::ExistingFile);

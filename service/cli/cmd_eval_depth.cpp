@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_eval_depth_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct EvalDepthArgs {
   std::string scenario, config, sensor;
@@ -74,9 +74,10 @@ void runEvalDepth(const EvalDepthArgs& a) {
   fmt::print("filter: {:.0f} frames/s (this machine's threads, batches of one simulated second)\n", fps);
 }
 
-}  // namespace
+}  // namespace cmd_eval_depth_impl
 
 void registerEvalDepth(CLI::App& eval) {
+  using namespace cmd_eval_depth_impl;
   auto a = std::make_shared<EvalDepthArgs>();
   CLI::App& c = *eval.add_subcommand("depth", "Depth filter vs the simulator's tagged ToF artefacts");
   c.add_option("--scenario", a->scenario, "Scenario YAML with a depth camera in its rig")->required()->check(CLI::ExistingFile);

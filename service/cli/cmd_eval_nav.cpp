@@ -41,7 +41,7 @@ using engines::MissionTracker;
 using engines::MissionResult;
 using engines::executableDir;
 using engines::driveJson;
-namespace {
+namespace cmd_eval_nav_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 namespace fs = std::filesystem;
 
@@ -332,9 +332,10 @@ void run(const Args& a) {
                reached ? time_ratio_sum / double(reached) : 0.0);
 }
 
-}  // namespace
+}  // namespace cmd_eval_nav_impl
 
 void registerEvalNav(CLI::App& eval) {
+  using namespace cmd_eval_nav_impl;
   auto a = std::make_shared<Args>();
   CLI::App& c = *eval.add_subcommand("nav", "Navigation missions in a closed loop: polylocd + polynav + the simulated robot");
   c.add_option("--scenario", a->scenario, "Scenario with a navigation: section (maps/scenarios/lab_nav.yaml)")->required()->check(CLI::ExistingFile);

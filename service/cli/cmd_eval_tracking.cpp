@@ -22,7 +22,7 @@
 #include <map>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_eval_tracking_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct Args {
   std::string scenario, plot, tracking;
@@ -106,9 +106,10 @@ void run(const Args& a) {
   fmt::print("tracking {:.2f} s of {:.2f} s wall\n", q.tracking_s, q.wall_s);
 }
 
-}  // namespace
+}  // namespace cmd_eval_tracking_impl
 
 void registerEvalTracking(CLI::App& eval) {
+  using namespace cmd_eval_tracking_impl;
   auto a = std::make_shared<Args>();
   CLI::App& c = *eval.add_subcommand("tracking", "People-tracking quality (CLEAR-MOT) on a simulated run");
   c.add_option("--scenario", a->scenario, "Scenario YAML; its config's tracking: section is used")->required()->check(CLI::ExistingFile);

@@ -18,7 +18,7 @@
 #include <memory>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_info_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct InfoArgs {
   std::string file;
@@ -136,9 +136,10 @@ void printJson(const InfoArgs& args, const Summary& s) {
   fmt::print("{}\n", j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
 }
 
-}  // namespace
+}  // namespace cmd_info_impl
 
 void registerInfo(CLI::App& app) {
+  using namespace cmd_info_impl;
   auto args = std::make_shared<InfoArgs>();
   CLI::App* cmd = app.add_subcommand(
       "info", "Show what a recording holds: MCAP, ROS 2 bag (directory, metadata.yaml or .db3), CARMEN log");

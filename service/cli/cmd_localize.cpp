@@ -29,7 +29,7 @@
 #include <sstream>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_localize_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 using Clock = std::chrono::steady_clock;
 
@@ -166,9 +166,10 @@ void runLocalize(const LocalizeArgs& a) {
   noScanUsed();
 }
 
-}  // namespace
+}  // namespace cmd_localize_impl
 
 void registerLocalize(CLI::App& app) {
+  using namespace cmd_localize_impl;
   auto args = std::make_shared<LocalizeArgs>();
   CLI::App& cmd = *app.add_subcommand("localize", "Localise a recorded run with Monte-Carlo localisation on the polygon map");
   cmd.add_option("--input", args->input, "Recording: MCAP, ROS 2 bag (directory, metadata.yaml or .db3), CARMEN log")->required();

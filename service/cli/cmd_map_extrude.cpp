@@ -26,7 +26,7 @@
 #include <stdexcept>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_map_extrude_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct MapExtrudeArgs {
   std::string grid, carmen, out, laser = "all", save_grid, plot, scans = "all";
@@ -115,9 +115,10 @@ void run(const MapExtrudeArgs& a) {
                grid.width, grid.height, grid.resolution, st.occupied_cells, st.boxes, mesh.numTriangles(), a.out);
 }
 
-}  // namespace
+}  // namespace cmd_map_extrude_impl
 
 void registerMapExtrude(CLI::App& map) {
+  using namespace cmd_map_extrude_impl;
   auto a = std::make_shared<MapExtrudeArgs>();
   CLI::App* c = map.add_subcommand(
       "extrude", "Turn a 2D occupancy grid (a ROS map_server YAML + PGM/PNG, or one built from a CARMEN log "

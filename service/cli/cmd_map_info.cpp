@@ -11,7 +11,7 @@
 #include <memory>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_map_info_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct MapInfoArgs {
   std::string file;
@@ -53,9 +53,10 @@ void run(const MapInfoArgs& args) {
   }
 }
 
-}  // namespace
+}  // namespace cmd_map_info_impl
 
 void registerMapInfo(CLI::App& map) {
+  using namespace cmd_map_info_impl;
   auto args = std::make_shared<MapInfoArgs>();
   CLI::App* cmd = map.add_subcommand(
       "info", "Load a map file (OBJ, PLY, STL, glTF/GLB, DAE...) and validate it");

@@ -27,7 +27,7 @@
 #include <vector>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_map_navgrid_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 namespace fs = std::filesystem;
 
@@ -133,9 +133,10 @@ void run(const MapNavgridArgs& a) {
                st.open_columns);
 }
 
-}  // namespace
+}  // namespace cmd_map_navgrid_impl
 
 void registerMapNavgrid(CLI::App& map) {
+  using namespace cmd_map_navgrid_impl;
   auto a = std::make_shared<MapNavgridArgs>();
   CLI::App* c = map.add_subcommand(
       "navgrid", "The map's free space for the robot as a ROS map_server grid (YAML + PGM) for a 2D planner: a "

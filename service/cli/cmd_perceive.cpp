@@ -38,7 +38,7 @@
 #include <optional>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_perceive_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 using Clock = std::chrono::steady_clock;
 
@@ -324,9 +324,10 @@ void runPerceive(const PerceiveArgs& a) {
                update_ms.empty() ? 0.0 : percentile(update_ms, 99), j["vrs_rmse_m"].dump(), j["mota"].dump(), a.out);
 }
 
-}  // namespace
+}  // namespace cmd_perceive_impl
 
 void registerPerceive(CLI::App& app) {
+  using namespace cmd_perceive_impl;
   auto a = std::make_shared<PerceiveArgs>();
   CLI::App* c = app.add_subcommand("perceive", "Virtual range scans and people tracking over a recording");
   c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag or CARMEN log")->required()->check(CLI::ExistingPath);

@@ -31,7 +31,7 @@ namespace polyloc::cli {
 
 using engines::PlayFeed;
 using engines::PlayResult;
-namespace {
+namespace cmd_play_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 using Clock = std::chrono::steady_clock;
 
@@ -160,9 +160,10 @@ void runPlay(const PlayArgs& a) {
                                          a.shm, r.undelivered));
 }
 
-}  // namespace
+}  // namespace cmd_play_impl
 
 void registerPlay(CLI::App& app) {
+  using namespace cmd_play_impl;
   auto a = std::make_shared<PlayArgs>();
   CLI::App* c = app.add_subcommand("play", "Feed a recording or a live simulation into polylocd's shared memory, and watch the results");
   c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag or CARMEN log")->check(CLI::ExistingPath);

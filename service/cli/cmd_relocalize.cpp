@@ -26,7 +26,7 @@
 #include <optional>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_relocalize_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 using Clock = std::chrono::steady_clock;
 
@@ -123,9 +123,10 @@ void runRelocalize(RelocalizeArgs& a) {
                                          summary["failed"].get<size_t>(), o.inputs.size(), o.out_dir));
 }
 
-}  // namespace
+}  // namespace cmd_relocalize_impl
 
 void registerRelocalize(CLI::App& app) {
+  using namespace cmd_relocalize_impl;
   auto args = std::make_shared<RelocalizeArgs>();
   reloc::BatchOptions& b = args->batch;
   CLI::App& cmd = *app.add_subcommand("relocalize", "Localise many recordings in batch (TBB jobs, MPI ranks under mpirun)");

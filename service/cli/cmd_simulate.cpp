@@ -22,7 +22,7 @@
 #include <memory>
 
 namespace polyloc::cli {
-namespace {
+namespace cmd_simulate_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct SimulateArgs {
   std::string scenario, out, ground_truth, plot;
@@ -197,9 +197,10 @@ void runSimulate(const SimulateArgs& a) {
   if (!a.plot.empty()) fmt::print("plot       {}\n", a.plot);
 }
 
-}  // namespace
+}  // namespace cmd_simulate_impl
 
 void registerSimulate(CLI::App& app) {
+  using namespace cmd_simulate_impl;
   auto args = std::make_shared<SimulateArgs>();
   CLI::App& cmd = *app.add_subcommand(
       "simulate", "Simulate a scenario: sensors, odometry and ground truth as MCAP or a ROS 2 bag");

@@ -9,7 +9,7 @@
 #include <system_error>
 
 namespace polyloc::cli {
-namespace {
+namespace output_check_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 namespace fs = std::filesystem;
 
 bool samePath(const std::string& a, const std::string& b) {
@@ -18,10 +18,11 @@ bool samePath(const std::string& a, const std::string& b) {
   const fs::path ca = fs::weakly_canonical(fs::absolute(a, ec), ec), cb = fs::weakly_canonical(fs::absolute(b, ec), ec);
   return ca == cb;
 }
-}  // namespace
+}  // namespace output_check_impl
 
 void checkOutputs(const std::vector<PathArg>& inputs, const std::vector<PathArg>& files,
                   const std::vector<PathArg>& folders) {
+  using namespace output_check_impl;
   std::vector<const PathArg*> outs;
   for (const auto& f : files)
     if (!f.path.empty()) outs.push_back(&f);

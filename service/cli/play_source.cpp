@@ -10,7 +10,7 @@
 #include <thread>
 
 namespace polyloc::cli {
-namespace {
+namespace play_source_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 class RecordingSource final : public PlaySource {
  public:
@@ -112,10 +112,13 @@ class ScenarioSource final : public PlaySource {
   std::thread thread_;
 };
 
-}  // namespace
+}  // namespace play_source_impl
 
-std::unique_ptr<PlaySource> playRecording(const std::string& path) { return std::make_unique<RecordingSource>(path); }
+std::unique_ptr<PlaySource> playRecording(const std::string& path) {
+  return std::make_unique<play_source_impl::RecordingSource>(path);
+}
 std::unique_ptr<PlaySource> playScenario(const std::string& path, double duration_s) {
+  using namespace play_source_impl;
   return std::make_unique<ScenarioSource>(path, duration_s);
 }
 

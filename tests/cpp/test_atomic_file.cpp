@@ -12,10 +12,12 @@
 #include <fstream>
 #include <sstream>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_atomic_file {
+
 using namespace polyloc;
 using polyloc::test::TempDir;
 
-namespace {
 std::string slurp(const std::string& path) {
   std::ifstream f(path);
   std::stringstream s;
@@ -25,7 +27,6 @@ std::string slurp(const std::string& path) {
 size_t filesIn(const std::filesystem::path& dir) {
   return size_t(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()));
 }
-}  // namespace
 
 TEST(AtomicFile, ReplacesOnlyWhenWhole) {
   TempDir tmp;
@@ -76,3 +77,5 @@ TEST(AtomicFile, TumWriterKeepsTheOldTrajectoryUntilClosed) {
   w.close();
   EXPECT_NE(slurp(path).find("1.000000000 1.000000000 2.000000000"), std::string::npos) << slurp(path);
 }
+
+}  // namespace polyloc::t_atomic_file

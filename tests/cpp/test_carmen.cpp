@@ -12,7 +12,7 @@
 #include <cmath>
 #include <random>
 
-namespace polyloc {
+namespace polyloc::t_carmen {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 const char* kLog =

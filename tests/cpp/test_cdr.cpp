@@ -9,6 +9,9 @@
 
 #include <random>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_cdr {
+
 using namespace polyloc;
 using polyloc::test::sampleMessages;
 using polyloc::test::sameMessage;
@@ -237,3 +240,5 @@ TEST(Cdr, SchemaTextsCarryEveryDependencyOnce) {
   for (const auto& t : msg::supportedTypes()) EXPECT_FALSE(msg::ros2msgSchema(t).empty()) << t;
   EXPECT_THROW(msg::ros2msgSchema("std_msgs/msg/String"), IoError);
 }
+
+}  // namespace polyloc::t_cdr

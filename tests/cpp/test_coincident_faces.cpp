@@ -7,6 +7,9 @@
 #include <string>
 #include <vector>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_coincident_faces {
+
 using namespace polyloc;
 
 TEST(CoincidentFaces, TouchingBoxesShareOnlyTheirContactFaces) {
@@ -46,7 +49,6 @@ TEST(CoincidentFaces, FacesThatOnlyShareAnEdgeOrFaceTheSameWayAreNotCoincident) 
   EXPECT_EQ(c.triangles(), 0u);
 }
 
-namespace {
 
 Mesh touchingBoxes(const Eigen::Vector3d& shift) {
   Mesh m;
@@ -55,7 +57,6 @@ Mesh touchingBoxes(const Eigen::Vector3d& shift) {
   return m;
 }
 
-}  // namespace
 
 // Was: a 1e-5 m tolerance at any scale; at x = 5e5 m floats are 3 cm apart, hit points fell off
 // the covered boxes and the tie rule was skipped without a word.
@@ -102,3 +103,5 @@ TEST(CoincidentFaces, TheTieRuleHoldsInUtmCoordinatesOnEveryExactBackend) {
     }
   }
 }
+
+}  // namespace polyloc::t_coincident_faces

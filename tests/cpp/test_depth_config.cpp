@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_depth_config {
+
 using namespace polyloc;
 
 TEST(DepthConfigYaml, EmptySectionGivesTheDefaults) {
@@ -75,3 +78,5 @@ TEST(DepthConfigYaml, LabConfigSpellsOutTheDefaults) {
   EXPECT_EQ(l.smoothing.method, d.smoothing.method);
   EXPECT_EQ(l.smoothing.size, d.smoothing.size);
 }
+
+}  // namespace polyloc::t_depth_config

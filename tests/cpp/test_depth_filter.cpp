@@ -6,10 +6,12 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_depth_filter {
+
 using namespace polyloc;
 using test::view;
 
-namespace {
 
 DepthFilterConfig rejectOnly() {
   DepthFilterConfig c;
@@ -25,7 +27,6 @@ std::vector<float> stepEdge(const DepthCameraSpec& cam, float near, float far, i
   return d;
 }
 
-}  // namespace
 
 TEST(DepthFilter, WallInFrontGivesBasePointsAtItsDistance) {
   const DepthCameraSpec cam = pmdO3D100();
@@ -175,3 +176,5 @@ TEST(DepthFilter, MedianSmoothingReducesNoiseAndFillsNoHoles) {
     EXPECT_LT(std::sqrt(smooth / n), 0.6 * std::sqrt(raw / n)) << method;
   }
 }
+
+}  // namespace polyloc::t_depth_filter

@@ -7,6 +7,9 @@
 #include <limits>
 #include <stdexcept>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_depth_input {
+
 using namespace polyloc;
 using test::view;
 
@@ -81,3 +84,5 @@ TEST(DepthInput, SettingsThatCannotWorkAreErrors) {
   empty.width = 0;
   EXPECT_THROW(DepthFilter(empty, Pose()), std::invalid_argument);
 }
+
+}  // namespace polyloc::t_depth_input

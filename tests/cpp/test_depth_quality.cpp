@@ -9,6 +9,9 @@
 #include <map>
 #include <string>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_depth_quality {
+
 using namespace polyloc;
 
 TEST(DepthQuality, DefaultsMeetTheBoundsOnTheLabTour) {
@@ -43,3 +46,5 @@ TEST(DepthQuality, DefaultsMeetTheBoundsOnTheLabTour) {
   EXPECT_GE(by["confidence"]->rejected, 234631u * 2 / 3);
   EXPECT_GE(r.combined.outlierRemoved() - conf.outlierRemoved(), 0.0085 / 1.5) << "jump edges add nothing to confidence";
 }
+
+}  // namespace polyloc::t_depth_quality

@@ -11,10 +11,12 @@
 #include <limits>
 #include <stdexcept>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_distance_field {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 
 // Brute force: the distance to the nearest triangle, clamped as the field clamps.
 float exactDistance(const Mesh& m, const Eigen::Vector3f& p, float max_distance) {
@@ -55,7 +57,6 @@ ErrorStats compare(const Mesh& m, const DistanceField3D& f, size_t n, uint64_t s
   return s;
 }
 
-}  // namespace
 
 TEST(DistanceField, KnownDistancesInTheBoxRoom) {
   const Mesh room = boxRoom(4.f, 3.f, 2.5f, 0.2f);  // interior [-4,4] x [-3,3] x [0,2.5]
@@ -152,3 +153,5 @@ TEST(DistanceField, EmptyMeshAndBadConfig) {
   c = config(1e-4, 1.0);  // 30000^3 nodes
   EXPECT_THROW((DistanceField3D{room, c}), std::invalid_argument);
 }
+
+}  // namespace polyloc::t_distance_field

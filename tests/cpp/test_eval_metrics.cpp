@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-namespace polyloc {
+namespace polyloc::t_eval_metrics {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 constexpr int64_t kSec = 1000000000;

@@ -9,7 +9,7 @@
 
 #include <filesystem>
 
-namespace polyloc {
+namespace polyloc::t_eval_plot {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 TEST(EvalPlot, DrawsPathsCloudsAndLegend) {

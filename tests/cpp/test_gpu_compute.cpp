@@ -9,9 +9,11 @@
 #include <numeric>
 #include <vector>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_gpu_compute {
+
 using namespace polyloc;
 
-namespace {
 
 GpuContext& gpu() {
   static GpuContext context;  // one per process: creating EGL contexts is slow on llvmpipe
@@ -31,7 +33,6 @@ void main() {
 }
 )";
 
-}  // namespace
 
 TEST(GpuContext, HeadlessContextReportsGles31AndLimits) {
   const GpuInfo& i = gpu().info();
@@ -80,3 +81,5 @@ TEST(GpuCompute, ErrorsNameWhatWentWrong) {
   EXPECT_THROW(GpuContext(GpuOptions{"nonsense"}), GpuError);
 }
 #endif
+
+}  // namespace polyloc::t_gpu_compute

@@ -31,11 +31,13 @@
 #include <limits>
 #include <thread>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_hostile_values {
+
 using namespace polyloc;
 using namespace polyloc::pipeline;
 using namespace std::chrono_literals;
 
-namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 const double kValues[] = {0.0, -0.0, 1e-300, 1e19, 1e300, -1e300, kInf, std::numeric_limits<double>::quiet_NaN()};
@@ -93,7 +95,6 @@ struct HostileValues : ::testing::Test {
   }
 };
 
-}  // namespace
 
 TEST_F(HostileValues, EveryValueInEveryShmFieldIsTakenOrRefusedByItsDomain) {
   shm::Segment seg = attach();
@@ -200,3 +201,5 @@ TEST(HostileRecording, EveryValueInTheOdometryAndScansLeavesTheRunOnTrack) {
     EXPECT_EQ(r.final_status, MclStatus::Tracking) << v;
   }
 }
+
+}  // namespace polyloc::t_hostile_values

@@ -19,11 +19,13 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_live {
+
 using namespace polyloc;
 using namespace polyloc::live;
 using json = nlohmann::json;
 
-namespace {
 
 json parse(const Bytes& b) { return json::parse(std::string(b.begin(), b.end())); }
 
@@ -32,7 +34,6 @@ T decode(const std::string& type, const Bytes& b) {
   return std::get<T>(msg::decodeCdr(type, b));
 }
 
-}  // namespace
 
 TEST(LiveMessages, PoseWithItsCovarianceInRosOrder) {
   MclEstimate e;
@@ -269,3 +270,5 @@ TEST(FoxgloveServer, PortInUseIsNamedAndAnyFreePortWorks) {
   a.stop();  // idempotent
   EXPECT_EQ(a.stats().http_requests, 1u);
 }
+
+}  // namespace polyloc::t_live

@@ -20,7 +20,9 @@
 #include <thread>
 #include <vector>
 
-namespace {
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_live_server {
+
 
 using namespace polyloc::live;
 using json = nlohmann::json;
@@ -318,9 +320,7 @@ TEST(FoxgloveServerLimits, AFailedAcceptPausesInsteadOfSpinning) {
   EXPECT_TRUE(good.open());
 }
 
-}  // namespace
 
-namespace {
 
 // A client that subscribed to nothing gets nothing; one that unsubscribed gets nothing more.
 TEST(FoxgloveServerLimits, NothingGoesToAClientThatDidNotSubscribe) {
@@ -343,4 +343,5 @@ TEST(FoxgloveServerLimits, NothingGoesToAClientThatDidNotSubscribe) {
   EXPECT_EQ(s.stats().messages_dropped, 0u);
 }
 
-}  // namespace
+
+}  // namespace polyloc::t_live_server

@@ -13,10 +13,12 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_map_extrude {
+
 using namespace polyloc;
 using polyloc::test::TempDir;
 
-namespace {
 
 // A 60 x 40 grid of 5 cm (3 x 2 m): an outer wall, an inner wall with a door gap, a pillar.
 OccupancyGrid rooms() {
@@ -33,7 +35,6 @@ OccupancyGrid rooms() {
   return g;
 }
 
-}  // namespace
 
 TEST(MapExtrude, ClosedOutwardAndMerged) {
   const OccupancyGrid g = rooms();
@@ -85,3 +86,5 @@ TEST(MapExtrude, RangesInTheExtrudedMapMatchTheGrid) {
   // Measured 96.9 %: the rest graze wall ends and the door gap's edges.
   EXPECT_GE(double(within) / double(a.size()), 0.95);
 }
+
+}  // namespace polyloc::t_map_extrude

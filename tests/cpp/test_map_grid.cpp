@@ -8,10 +8,12 @@
 
 #include <functional>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_map_grid {
+
 using namespace polyloc;
 using polyloc::test::TempDir;
 
-namespace {
 
 // A 4 x 3 grid: occupied, free and unknown cells at known places.
 OccupancyGrid sample() {
@@ -34,7 +36,6 @@ std::string message(const std::function<void()>& f) {
   return "no error";
 }
 
-}  // namespace
 
 TEST(GridMap, RoundTripKeepsCellsAndGeometry) {
   TempDir dir;
@@ -94,3 +95,5 @@ TEST(GridMap, BadInputNamesFileAndKey) {
                                             "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
   EXPECT_NE(message([&] { loadGridMap(p); }).find("broken.pgm"), std::string::npos);
 }
+
+}  // namespace polyloc::t_map_grid

@@ -13,11 +13,13 @@
 #include <stdexcept>
 #include <string>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_map_height_band {
+
 using namespace polyloc;
 using V3 = Eigen::Vector3f;
 using V3d = Eigen::Vector3d;
 
-namespace {
 
 constexpr int8_t kFree = OccupancyGrid::kFree, kOcc = OccupancyGrid::kOccupied, kUnknown = OccupancyGrid::kUnknown;
 
@@ -55,7 +57,6 @@ void addRamp(Mesh& m, float x0, float x1, float y0, float y1, float rise, uint32
   m.addTriangle(d, ct, c, label);  // side y1, +y
 }
 
-}  // namespace
 
 TEST(HeightBand, TableTopOccupiedForATallRobotFreeForAShortOne) {
   Mesh m = floorSlab();
@@ -377,3 +378,5 @@ TEST(HeightBand, LabDoorsTablesRampPlatformAndStairwell) {
   EXPECT_GE(st.cells_danger, size_t(hole.volume() / 0.0025));
   EXPECT_LT(st.cells_danger, 10000u);
 }
+
+}  // namespace polyloc::t_map_height_band

@@ -13,11 +13,13 @@
 
 #include "temp_dir.hpp"
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_map_load {
+
 using namespace polyloc;
 using polyloc::test::TempDir;
 using V3 = Eigen::Vector3f;
 
-namespace {
 
 // A box [lo, hi] with outward counter-clockwise faces and labels floor, ceiling, door (one
 // side), wall (two sides) and unlabelled (one side). Corner i picks hi on axis k if bit k is set.
@@ -76,7 +78,6 @@ void expectThrowsWith(const std::function<void()>& f, const std::vector<std::str
   }
 }
 
-}  // namespace
 
 class MapRoundTrip : public ::testing::TestWithParam<std::string> {};
 
@@ -325,3 +326,5 @@ TEST(MapLoad, TruncatedFilesOfEveryFormatFailCleanly) {
     }
   }
 }
+
+}  // namespace polyloc::t_map_load

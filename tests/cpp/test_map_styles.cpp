@@ -13,7 +13,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace polyloc {
+namespace polyloc::t_map_styles {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 OccupancyGrid emptyGrid(size_t w, size_t h) {

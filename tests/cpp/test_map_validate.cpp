@@ -6,9 +6,11 @@
 
 #include <chrono>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_map_validate {
+
 using namespace polyloc;
 
-namespace {
 
 // Unit cube [0,1]^3: corner i is (i&1, i>>1&1, i>>2&1); faces counter-clockwise from outside.
 Mesh unitCube() {
@@ -27,7 +29,6 @@ Mesh unitCube() {
   return m;
 }
 
-}  // namespace
 
 TEST(MapValidate, ClosedCubeIsClean) {
   const Mesh cube = unitCube();
@@ -168,3 +169,5 @@ TEST(MapValidate, MillionTriangleGrid) {
   EXPECT_EQ(r.degenerate_triangles, 0u);
   EXPECT_LT(seconds, 10.0);  // generous: ~0.3 s in Release; catches an accidental O(n^2)
 }
+
+}  // namespace polyloc::t_map_validate

@@ -15,12 +15,14 @@
 #include <set>
 #include <tuple>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mapgen {
+
 using namespace polyloc;
 using mapgen::MeshBuilder;
 using V2 = Eigen::Vector2f;
 using V3 = Eigen::Vector3f;
 
-namespace {
 
 constexpr float kPi = static_cast<float>(M_PI);
 
@@ -96,7 +98,6 @@ const Mesh& office() {
   return m;
 }
 
-}  // namespace
 
 TEST(MapGenBuilder, BoxIsClosedOutwardWithItsVolume) {
   Mesh m;
@@ -329,3 +330,5 @@ TEST(MapGenMaps, CommittedFilesMatchTheGenerator) {
     EXPECT_EQ(r.inconsistent_edges, 0u) << name;
   }
 }
+
+}  // namespace polyloc::t_mapgen

@@ -14,11 +14,13 @@
 #include <iterator>
 #include <random>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcap {
+
 using namespace polyloc;
 using polyloc::test::sampleMessages;
 using polyloc::test::sameMessage;
 
-namespace {
 
 struct Written {
   std::string topic;
@@ -100,7 +102,6 @@ uint64_t le(const std::string& s, size_t at, int n) {
   return v;
 }
 
-}  // namespace
 
 TEST(Mcap, RoundTripEachCompression) {
   test::TempDir dir;
@@ -357,3 +358,5 @@ TEST(Mcap, WriterRejectsBadUse) {
   EXPECT_THROW(w->write("/a", 3, msg::PoseStamped{}), IoError);
   EXPECT_EQ(readAll(dir.file("x.mcap")).size(), 1u);
 }
+
+}  // namespace polyloc::t_mcap

@@ -10,9 +10,11 @@
 #include <fstream>
 #include <sstream>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcap_memory {
+
 using namespace polyloc;
 
-namespace {
 
 // A field of /proc/self/status in kB ("VmHWM", "VmRSS"); -1 where there is none.
 long statusKb(const std::string& key) {
@@ -30,7 +32,6 @@ bool resetPeak() {
   return bool(out);
 }
 
-}  // namespace
 
 TEST(McapMemory, ReadingStaysFlat) {
   if (statusKb("VmHWM") < 0) GTEST_SKIP() << "no /proc/self/status";
@@ -71,3 +72,5 @@ TEST(McapMemory, ReadingStaysFlat) {
   RecordProperty("peak_rss_growth_kb", std::to_string(growth_kb));
   EXPECT_LT(growth_kb, 24 * 1024);
 }
+
+}  // namespace polyloc::t_mcap_memory

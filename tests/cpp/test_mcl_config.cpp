@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_config {
+
 using namespace polyloc;
 
-namespace {
 // The message parseMclConfig throws for a file "t.yaml" holding `text`; empty when it passes.
 std::string error(const std::string& text) {
   try {
@@ -21,7 +23,6 @@ std::string error(const std::string& text) {
   }
   return std::string();
 }
-}  // namespace
 
 TEST(MclConfigYaml, ReadsValuesAndKeepsDefaults) {
   ConfigMap m = ConfigMap::parse("mcl:\n  dof: 6\n  particles: 3000\n  update_min_angle: 5\n"
@@ -173,3 +174,5 @@ TEST(MclConfigYaml, RandomSubsampleIsReachableAndDeterministic) {
   EXPECT_NE(a, BeamSensorModel::selectBeams(beams, ranges, 30, "random", 7, 4));
   EXPECT_NE(a, BeamSensorModel::selectBeams(beams, ranges, 30, "uniform", 7, 3));
 }
+
+}  // namespace polyloc::t_mcl_config

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-namespace polyloc::test {
+namespace polyloc::test::t_mcl_depth_rounds {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 Rig scannerAndCamera() {

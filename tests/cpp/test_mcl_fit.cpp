@@ -14,7 +14,7 @@
 
 #include <gtest/gtest.h>
 
-namespace polyloc::test {
+namespace polyloc::test::t_mcl_fit {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 struct Room {

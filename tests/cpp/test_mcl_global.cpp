@@ -6,10 +6,12 @@
 
 #include <algorithm>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_global {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 MclConfig globalConfig() {
   MclConfig c;
   c.global_particles = 20000;
@@ -17,7 +19,6 @@ MclConfig globalConfig() {
   c.beam.log_scale = 0.1;  // tempered: the sparse cloud must not collapse onto a lucky particle
   return c;
 }
-}  // namespace
 
 TEST(MclGlobal, ParticlesOnlyOnFreeFloor) {
   const Mesh mesh = asymmetricRoom();
@@ -140,3 +141,5 @@ TEST(MclGlobal, FirstRoundReportsTheBestRefinedPlace) {
     EXPECT_LT(yawErrDeg(e.pose, truth), 1.0) << truth.x() << " " << truth.y();
   }
 }
+
+}  // namespace polyloc::t_mcl_global

@@ -8,13 +8,14 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_global_search {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 // A cloud of a few particles, all at one wrong place: only the screen can find the robot.
 ParticleSet wrongCloud() { return particlesAt({Pose::planar(1.5, -1.5, 2.0), Pose::planar(1.6, -1.5, 2.1)}); }
-}  // namespace
 
 TEST(MclGlobalSearch, TheScreenFindsThePlaceAndRoundsTrackIt) {
   const Mesh mesh = asymmetricRoom();
@@ -75,3 +76,5 @@ TEST(MclGlobalSearch, ARoomThatLooksTheSameBothWaysIsAmbiguous) {
   for (const Hypothesis& h : local) found = found || (posErr(h.pose, truth) < 0.02 && yawErrDeg(h.pose, truth) < 1);
   EXPECT_TRUE(found);
 }
+
+}  // namespace polyloc::t_mcl_global_search

@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_hypotheses {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
@@ -112,3 +115,5 @@ TEST(MclHypotheses, TrackedPlacesAccumulateAndFollowOdometry) {
   EXPECT_EQ(bestPlace(places)->missed, 1u);
   EXPECT_EQ(bestPlace(std::vector<TrackedPlace>{}), nullptr);
 }
+
+}  // namespace polyloc::t_mcl_hypotheses

@@ -10,6 +10,9 @@
 
 #include <limits>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_likelihood_field {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
@@ -113,3 +116,5 @@ TEST(MclLikelihoodField, ConfigSection) {
     EXPECT_NE(std::string(e.what()).find("sigma"), std::string::npos) << e.what();
   }
 }
+
+}  // namespace polyloc::t_mcl_likelihood_field

@@ -9,10 +9,12 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_plane_fragments {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 
 PlanarScannerSpec scannerSpec(double res_deg = 0.5) {
   PlanarScannerSpec spec;
@@ -42,7 +44,6 @@ std::pair<double, Eigen::Vector3d> nearestPlane(const Eigen::Vector3d& p, double
   return *std::min_element(std::begin(c), std::end(c), [](const auto& a, const auto& b) { return a.first < b.first; });
 }
 
-}  // namespace
 
 TEST(LineSegments, FindsTheWallsOfABoxRoom) {
   const Mesh mesh = boxRoom(4.f, 3.f, 2.5f, 0.2f);
@@ -183,7 +184,6 @@ TEST(PlaneFragments, FactoryAndConfig) {
   EXPECT_THROW(parseMclConfig(bad.map("mcl")), ConfigError);
 }
 
-namespace {
 struct TrackRun {
   ParticleSet particles;
   MclEstimate estimate;
@@ -213,7 +213,6 @@ TrackRun track(size_t steps, int threads, size_t particles) {
   }
   return {loc.particles(), loc.estimate(), loc.counters()};
 }
-}  // namespace
 
 TEST(MclPlaneFragments, ConvergesFromPerturbedPose) {
   const auto truth = loopTrajectory(60);
@@ -238,3 +237,5 @@ TEST(MclPlaneFragments, SameResultForOneAndTwoThreads) {
     ASSERT_EQ(a.particles.logw[i], b.particles.logw[i]) << i;
   }
 }
+
+}  // namespace polyloc::t_mcl_plane_fragments

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-namespace polyloc::test {
+namespace polyloc::test::t_mcl_real_inputs {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 const Pose kAt = Pose::planar(-0.6, 0.4, 0.5);

@@ -7,7 +7,7 @@
 
 #include <limits>
 
-namespace polyloc::test {
+namespace polyloc::test::t_mcl_refine {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 double angleErrDeg(double a, double b) { return std::abs(rad2deg(angleDiff(a, b))); }

@@ -8,10 +8,12 @@
 
 #include <limits>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_robustness {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -28,7 +30,6 @@ struct MclRobust : ::testing::Test {
   Pose truth = Pose::planar(0.5, 0.5, 0.3);
   std::vector<float> scan(uint64_t step = 0) { return simulateScan(caster, rig.sensors[0], truth, 0.01, step); }
 };
-}  // namespace
 
 TEST_F(MclRobust, ScanBeforeInitIsRejected) {
   EXPECT_FALSE(loc.addScan(0, 0, scan()));
@@ -149,3 +150,5 @@ TEST(MclParts, BeamLikelihoodPrefersTheExpectedRange) {
   EXPECT_GT(off, outside);
   EXPECT_TRUE(std::isfinite(outside));
 }
+
+}  // namespace polyloc::t_mcl_robustness

@@ -7,10 +7,12 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_scan_screen {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 
 struct Room {
   Mesh mesh = asymmetricRoom();
@@ -24,7 +26,6 @@ struct Room {
   }
 };
 
-}  // namespace
 
 TEST(ScanScreen, TheTruePoseIsTheBestCandidate) {
   Room room;
@@ -74,3 +75,5 @@ TEST(ScanScreen, NoLevelBeamNoCandidate) {
   off.keep = 0;
   EXPECT_TRUE(ScanScreen(room.mesh, 0.2, off).best(room.rig, std::span(&level, 1), room.positions, 0.5, 0.35).empty());
 }
+
+}  // namespace polyloc::t_mcl_scan_screen

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_tracking {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
@@ -146,3 +149,5 @@ TEST(MclTracking, ScansUseOdometryInterpolatedToTheirStamp) {
   std::printf("[mcl] interpolated odometry: worst pos err %.4f m\n", worst);
   EXPECT_LT(worst, 0.004);
 }
+
+}  // namespace polyloc::t_mcl_tracking

@@ -8,10 +8,12 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mcl_weighing {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 
 std::vector<std::string> weighedNames(const Rig& rig, const MclConfig& cfg) {
   std::vector<std::string> out;
@@ -31,7 +33,6 @@ std::string configError(const std::string& text, const Rig& rig) {
   return "";
 }
 
-}  // namespace
 
 TEST(MclWeighing, SensorsAndGridPicksLevelScanners) {
   const Rig lisa = rigPreset("lisa");
@@ -113,3 +114,5 @@ TEST(MclWeighing, UnlistedSensorIsIgnored) {
   EXPECT_EQ(clean.translation(), dirty.translation());
   EXPECT_LT(posErr(clean, truth.back()), 0.05);
 }
+
+}  // namespace polyloc::t_mcl_weighing

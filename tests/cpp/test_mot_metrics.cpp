@@ -6,13 +6,14 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_mot_metrics {
+
 using namespace polyloc;
 
-namespace {
 
 MotObject obj(uint64_t id, double x, double y, bool care = true) { return {id, {x, y}, care}; }
 
-}  // namespace
 
 TEST(MotMetrics, PerfectTrackerAndDistances) {
   MotAccumulator acc(0.5);
@@ -108,3 +109,5 @@ TEST(MotMetrics, NonFiniteObjectsAreSkipped) {
   EXPECT_EQ(m.false_positives, 0u);
   EXPECT_DOUBLE_EQ(m.mota, 0.0);  // no ground truth: 0 by definition
 }
+
+}  // namespace polyloc::t_mot_metrics

@@ -22,11 +22,13 @@
 #include <string>
 #include <vector>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_nav_controller {
+
 using namespace polynav;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-namespace {
 
 constexpr double kDeg = M_PI / 180;
 constexpr double kDt = 0.08;      // s per VRS
@@ -289,7 +291,6 @@ struct Timer {
   double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
 };
 
-}  // namespace
 
 // The world as built is what the tests assume: the door fits the robot, the rooms are closed.
 TEST(NavController, WorldAndVrsAreWhatTheTestsAssume) {
@@ -442,7 +443,6 @@ TEST(NavController, DangerZoneAcrossTheShortcutIsGoneAround) {
   std::printf("  reached after %.1f s simulated, %.2f s wall\n", last.t, timer.seconds());
 }
 
-namespace {
 
 // The first step whose phase is Failed: the step on which the controller decided.
 std::optional<size_t> firstFailed(const Sim& sim) {
@@ -458,7 +458,6 @@ LoadedGrid closedDoorWorld() {
   return w;
 }
 
-}  // namespace
 
 TEST(NavController, UnreachableGoalFailsAtOnceWithTheReason) {
   ControllerConfig cfg;
@@ -605,7 +604,6 @@ TEST(NavController, NotLocalisedStandsStill) {
   EXPECT_TRUE(drove) << sim.tail();
 }
 
-namespace {
 
 // The goal straight ahead of the start in room a, a person standing on the straight line
 // between; `visible`: the VRS sees the person's body (a 0.2 m disc) too, not only the tracker.
@@ -640,8 +638,9 @@ void personOnThePath(bool visible) {
               last.out.state == 2 ? "reached" : "not reached", last.t, closest, timer.seconds());
 }
 
-}  // namespace
 
 TEST(NavController, PersonOnThePathSeenByTheVrsIsKeptClear) { personOnThePath(true); }
 
 TEST(NavController, PersonOnThePathOnlyTrackedIsKeptClear) { personOnThePath(false); }
+
+}  // namespace polyloc::t_nav_controller

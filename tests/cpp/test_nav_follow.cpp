@@ -21,11 +21,13 @@
 #include <string>
 #include <vector>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_nav_follow {
+
 using namespace polynav;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDeg = M_PI / 180;
@@ -47,7 +49,6 @@ PolarScan emptyScan(double range_max = 5.0) {
 // Beam index of the 1-degree scan along `deg` (-180 <= deg < 180).
 size_t beam(int deg) { return size_t(deg + 180); }
 
-}  // namespace
 
 // ------------------------------------------------------------------------------------ PathFollow
 
@@ -257,7 +258,6 @@ TEST(NavScanTools, ObstructedAtFirstPointWithinRadius) {
 
 // --------------------------------------------------------------------------------------- grid io
 
-namespace {
 
 // A binary PGM (P5) of `rows` (row 0 = the image's top).
 std::string pgm(const std::vector<std::vector<uint8_t>>& rows) {
@@ -287,7 +287,6 @@ std::string loadError(const std::string& path) {
   return "(nothing thrown)";
 }
 
-}  // namespace
 
 TEST(NavGridIo, CellsBottomUpUnknownIsOccupied) {
   polyloc::test::TempDir dir;
@@ -393,3 +392,5 @@ TEST(NavGridIo, ErrorsNameTheFileAndTheKey) {
   EXPECT_TRUE(has(e, "3x2")) << e;
   EXPECT_TRUE(has(e, "4x3")) << e;
 }
+
+}  // namespace polyloc::t_nav_follow

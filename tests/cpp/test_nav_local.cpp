@@ -17,10 +17,12 @@
 #include <utility>
 #include <vector>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_nav_local {
+
 using namespace polynav;
 using Eigen::Vector2d;
 
-namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDeg = M_PI / 180;
@@ -71,7 +73,6 @@ bool has(const std::string& s, const std::string& part) { return s.find(part) !=
 
 const RectHull kHull;  // 0.6 x 0.5 m: front = rear = 0.3, left = right = 0.25
 
-}  // namespace
 
 TEST(RectHull, ExtentAlongTheAxesAndCorners) {
   const RectHull h{0.4, 0.2, 0.3, 0.1};  // all sides different, so that a swap shows
@@ -390,3 +391,5 @@ TEST(Vfh, BadInputNamesTheField) {
   empty.ranges.clear();
   EXPECT_TRUE(has(thrown([&] { vfh(empty, {1, 0}, kHull); }), "scan.ranges is empty"));
 }
+
+}  // namespace polyloc::t_nav_local

@@ -6,10 +6,12 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_nav_missions {
+
 using namespace polyloc;
 using namespace polyloc::engines;
 
-namespace {
 
 struct Missions {
   polynav::Zones zones;
@@ -19,7 +21,6 @@ struct Missions {
                 [](const Eigen::Vector2d&, const polynav::GoalSpot&) { return 1.0; }) {}
 };
 
-}  // namespace
 
 // Was: the goal error was taken where the robot stood when the controller said "reached", while
 // the base was still braking; the mission's result was final before the robot was.
@@ -66,3 +67,5 @@ TEST(MissionTracker, TheNextMissionOrAnAbortEndsTheBrakingOne) {
   EXPECT_EQ(b.end_status, "blocked");
   EXPECT_NEAR(b.goal_error_m, 0.45, 1e-9);
 }
+
+}  // namespace polyloc::t_nav_missions

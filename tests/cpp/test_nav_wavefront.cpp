@@ -11,10 +11,12 @@
 #include <limits>
 #include <string>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_nav_wavefront {
+
 using namespace polynav;
 using Eigen::Vector2d;
 
-namespace {
 
 NavGrid grid(size_t w, size_t h, uint8_t value = 0) {
   NavGrid g;
@@ -53,7 +55,6 @@ std::string thrown(const std::function<void()>& f) {
   return "(nothing thrown)";
 }
 
-}  // namespace
 
 TEST(NavWavefront, EmptyGridStraightRun) {
   const NavGrid g = grid(200, 80);  // 10 x 4 m
@@ -285,3 +286,5 @@ TEST(NavWavefront, BadInputNamesTheField) {
   EXPECT_EQ(thrown([&] { w.plan(NavGrid{}, {}, {0, 0}, {0, 0}); }), "(nothing thrown)");  // empty: no cells
   EXPECT_EQ(w.plan(NavGrid{}, {}, {0, 0}, {0, 0}).why, "start outside the grid");
 }
+
+}  // namespace polyloc::t_nav_wavefront

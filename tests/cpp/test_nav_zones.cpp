@@ -21,11 +21,13 @@
 #include <set>
 #include <string>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_nav_zones {
+
 using namespace polynav;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-namespace {
 
 const std::string kLabZones = std::string(POLYLOC_SOURCE_DIR) + "/maps/nav/lab.yaml";
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -59,7 +61,6 @@ std::string loadError(const polyloc::test::TempDir& dir, const std::string& text
   return "(nothing thrown)";
 }
 
-}  // namespace
 
 // --------------------------------------------------------------------------------------- polygons
 
@@ -487,3 +488,5 @@ TEST(NavZones, RandomGoalsAreSeededAndNeverRepeatAGoalAtOnce) {
   z.goals.resize(1);
   EXPECT_THROW(polynav::randomGoals(z, 3, 7), polynav::ZonesError);
 }
+
+}  // namespace polyloc::t_nav_zones

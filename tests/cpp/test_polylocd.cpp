@@ -20,11 +20,13 @@
 #include <cstring>
 #include <thread>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_polylocd {
+
 using namespace polyloc;
 using namespace polyloc::pipeline;
 using namespace std::chrono_literals;
 
-namespace {
 
 std::string uniqueInstance(const char* what) { return fmt::format("test_{}_{}", what, getpid()); }
 
@@ -105,7 +107,6 @@ ServiceConfig fedConfig(const char* what, const Pose& start) {
   return c;
 }
 
-}  // namespace
 
 // A simulated 8 s of the lab tour, fed as fast as the daemon takes it: the pose follows the
 // truth, VRS and tracks come out, no frame is rejected or lost.
@@ -323,7 +324,6 @@ TEST(Polylocd, NoSingleStampSetsTheSourceClock) {
   }
 }
 
-namespace {
 
 // The poses polylocd published for a lab tour fed as `late` says: false, every frame in stamp
 // order as fast as it goes; true, each odometry message held back until after the sensor frames
@@ -381,7 +381,6 @@ Fed feedTour(const test::CaptureWriter& rec, const Pose& start, const char* name
   return out;
 }
 
-}  // namespace
 
 // A scan read before the odometry that covers its stamp waits for it (polylocd.odom_wait), so
 // the poses do not depend on when odometry arrives nor on the thread count; without the wait
@@ -411,3 +410,5 @@ TEST(Polylocd, LateOdometryGivesTheSamePoses) {
   EXPECT_GT(differ_no_wait, in_order.poses.size() / 2);
   EXPECT_GT(no_wait.extrapolated, 50u);
 }
+
+}  // namespace polyloc::t_polylocd

@@ -5,6 +5,9 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_pose {
+
 using namespace polyloc;
 
 TEST(Pose, EulerRoundTrip) {
@@ -77,3 +80,5 @@ TEST(CounterRng, PureFunctionOfCounters) {
   EXPECT_NEAR(sum / n, 0.0, 0.01);
   EXPECT_NEAR(sum2 / n, 1.0, 0.02);
 }
+
+}  // namespace polyloc::t_pose

@@ -9,10 +9,12 @@
 #include <cstdio>
 #include <string>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_protocol_cli {
+
 using namespace polyloc::protocol;
 using polyloc::protocol::fake::TestServer;
 
-namespace {
 
 using CtlRun = polyloc::test::CommandRun;  // out: stdout and stderr
 
@@ -27,7 +29,6 @@ nlohmann::json ctlJson(const TestServer& t, const std::string& args) {
   return nlohmann::json::parse(r.out);
 }
 
-}  // namespace
 
 TEST(ProtocolCli, QueriesAsJson) {
   TestServer t;
@@ -91,3 +92,5 @@ TEST(ProtocolCli, ErrorsNameWhatWasWrong) {
   EXPECT_NE(r.out.find("Y: 'x' is not a number"), std::string::npos) << r.out;
   EXPECT_EQ(t.server.counters().frames, 2u);  // usage errors never reached the server
 }
+
+}  // namespace polyloc::t_protocol_cli

@@ -12,10 +12,12 @@
 #include <fstream>
 #include <sstream>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_protocol_doc {
+
 using namespace polyloc;
 using namespace polyloc::protocol;
 
-namespace {
 
 // "-> 48 45 4c 4f ..." 16 bytes a line, continuation lines indented.
 std::string hexLines(const char* arrow, const std::vector<uint8_t>& bytes) {
@@ -63,8 +65,9 @@ std::string docBlock() {
   return doc.substr(a + begin.size(), b - a - begin.size());
 }
 
-}  // namespace
 
 TEST(ProtocolDoc, ExampleSessionIsWhatTheCodeSends) {
   EXPECT_EQ(docBlock(), session()) << "docs/protocol.md's session block should read:\n" << session();
 }
+
+}  // namespace polyloc::t_protocol_doc

@@ -9,14 +9,15 @@
 #include <cstring>
 #include <limits>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_protocol_frame {
+
 using namespace polyloc;
 using namespace polyloc::protocol;
 
-namespace {
 
 std::vector<uint8_t> bytes(std::initializer_list<int> v) { return {v.begin(), v.end()}; }
 
-}  // namespace
 
 TEST(ProtocolFrame, Crc32KnownVectors) {
   const char* check = "123456789";  // the CRC-32 check value of every catalogue
@@ -178,3 +179,5 @@ TEST(ProtocolMessages, CorruptCountsAreRejectedWithoutAllocating) {
   EXPECT_FALSE(decodeHealth(std::vector<uint32_t>(17, 0xffffffffu)));
   EXPECT_FALSE(decodeMount(std::vector<uint32_t>(7)));  // one word too many
 }
+
+}  // namespace polyloc::t_protocol_frame

@@ -6,10 +6,12 @@
 
 #include <random>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_protocol_parser {
+
 using namespace polyloc::protocol;
 using Kind = ParseResult::Kind;
 
-namespace {
 
 std::vector<uint8_t> cat(std::initializer_list<std::vector<uint8_t>> parts) {
   std::vector<uint8_t> out;
@@ -40,7 +42,6 @@ std::vector<std::string> summary(const std::vector<ParseResult>& events) {
   return s;
 }
 
-}  // namespace
 
 TEST(ProtocolParser, OneByteAtATimeAndConcatenated) {
   const auto stream = cat({kPing, kScan, kGetPose});
@@ -172,3 +173,5 @@ TEST(ProtocolParser, BufferStaysBounded) {
   }
   EXPECT_EQ(p.buffered(), 0u);
 }
+
+}  // namespace polyloc::t_protocol_parser

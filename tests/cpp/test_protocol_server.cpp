@@ -9,12 +9,14 @@
 #include <cmath>
 #include <limits>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_protocol_server {
+
 using namespace polyloc;
 using namespace polyloc::protocol;
 using polyloc::protocol::fake::eventually;
 using polyloc::protocol::fake::TestServer;
 
-namespace {
 
 Frame ok(Client& c, uint32_t command, const std::vector<uint32_t>& data = {}, Status want = Status::Ok) {
   Frame r = c.call(command, data);
@@ -25,7 +27,6 @@ Frame ok(Client& c, uint32_t command, const std::vector<uint32_t>& data = {}, St
 
 uint32_t f32(float v) { return std::bit_cast<uint32_t>(v); }
 
-}  // namespace
 
 TEST(ProtocolServer, PingEchoesAndCheckProtocol) {
   TestServer t;
@@ -199,3 +200,5 @@ TEST(ProtocolServer, SettingsThatCannotWorkAreRefusedByName) {
   }
   EXPECT_FALSE(s.running());
 }
+
+}  // namespace polyloc::t_protocol_server

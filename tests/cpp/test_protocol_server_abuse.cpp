@@ -10,11 +10,13 @@
 #include <thread>
 #include <sys/socket.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_protocol_server_abuse {
+
 using namespace polyloc::protocol;
 using polyloc::protocol::fake::eventually;
 using polyloc::protocol::fake::TestServer;
 
-namespace {
 
 Status frameError(Client& c) {
   const auto f = c.receive(2000);
@@ -29,7 +31,6 @@ void expectPing(Client& c) {
   EXPECT_EQ(replyStatus(r), Status::Ok);
 }
 
-}  // namespace
 
 TEST(ProtocolServerAbuse, GarbageGetsAnErrorReplyThenTheStreamResynchronises) {
   TestServer t;
@@ -236,3 +237,5 @@ TEST(ProtocolServerAbuse, StopWithClientsConnected) {
   Client c("127.0.0.1", s.port());
   expectPing(c);
 }
+
+}  // namespace polyloc::t_protocol_server_abuse

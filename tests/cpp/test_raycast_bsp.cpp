@@ -14,9 +14,11 @@
 #include <cstdio>
 #include <random>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_raycast_bsp {
+
 using namespace polyloc;
 
-namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -41,7 +43,6 @@ struct BspRoom : ::testing::Test {
   BspCaster bsp{mesh};
 };
 
-}  // namespace
 
 TEST_F(BspRoom, BuildIsCompactAndTouchingFacesAreGone) {
   const BspStats& s = bsp.stats();
@@ -297,3 +298,5 @@ TEST(BspCaster, ScansWithWindowsOnTheLabMap) {
     EXPECT_EQ(at_start, in_solid);
   }
 }
+
+}  // namespace polyloc::t_raycast_bsp

@@ -15,12 +15,14 @@
 #include <cmath>
 #include <random>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_raycast_conformance {
+
 using namespace polyloc;
 using polyloc::test::castOne;
 using polyloc::test::freeAt;
 using polyloc::test::kInfRange;
 
-namespace {
 
 struct Contract {
   float tol;                 // m, range error on the box room's walls
@@ -59,7 +61,6 @@ struct Conformance : ::testing::TestWithParam<std::string> {
   Contract c = contractOf(GetParam());
 };
 
-}  // namespace
 
 TEST_P(Conformance, KnownRangesInTheBoxRoom) {
   const auto caster = make(GetParam(), room);
@@ -152,3 +153,5 @@ TEST_P(Conformance, AgreesWithEmbreeOnTheLab) {
 
 INSTANTIATE_TEST_SUITE_P(AllCasters, Conformance, ::testing::ValuesIn(casterNames()),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+
+}  // namespace polyloc::t_raycast_conformance

@@ -7,10 +7,12 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_raycast_distance3d {
+
 using namespace polyloc;
 using polyloc::test::freeAt;
 
-namespace {
 
 Distance3dOptions roomOptions() {
   Distance3dOptions o;
@@ -24,7 +26,6 @@ struct Distance3dRoom : ::testing::Test {
   Distance3dCaster caster{mesh, roomOptions()};
 };
 
-}  // namespace
 
 TEST_F(Distance3dRoom, InsideMarksAndClearance) {
   EXPECT_TRUE(caster.inside({2.1f, 0, 1}));
@@ -37,3 +38,4 @@ TEST_F(Distance3dRoom, InsideMarksAndClearance) {
   EXPECT_TRUE(freeAt(caster, {1.6f, 0, 1}, 0.3f));
 }
 
+}  // namespace polyloc::t_raycast_distance3d

@@ -9,10 +9,12 @@
 #include <cmath>
 #include <random>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_raycast_embree {
+
 using namespace polyloc;
 using polyloc::test::boxRoom;
 
-namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -49,7 +51,6 @@ void castAsRays(const EmbreeCaster& caster, const std::vector<Pose>& poses, cons
   caster.castRays({ox.data(), oy.data(), oz.data(), dx.data(), dy.data(), dz.data(), nullptr, nullptr, n}, {range.data()});
 }
 
-}  // namespace
 
 TEST_F(Room, RangesFromCentreMatchTheBox) {
   const BeamSet beams = horizontalFan(360);
@@ -275,3 +276,5 @@ TEST(EmbreeCaster, TouchingSolidsGiveOneAnswerOnEveryPath) {
   }
   EXPECT_EQ(inside, n);  // from inside a solid: the window start, never the neighbour's face
 }
+
+}  // namespace polyloc::t_raycast_embree

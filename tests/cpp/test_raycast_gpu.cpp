@@ -25,10 +25,12 @@
 #include <set>
 #include <thread>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_raycast_gpu {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 
 const Mesh& lab() {
   static const Mesh m = loadMesh(std::string(POLYLOC_SOURCE_DIR) + "/maps/lab.obj");
@@ -99,7 +101,6 @@ Compare compare(const float* a, const float* b, size_t n, float tol = 1e-3f) {
   return c;
 }
 
-}  // namespace
 
 TEST(GpuBvh, HoldsEveryTriangleOnceInsideItsBoxes) {
   const Mesh& m = lab();
@@ -440,3 +441,5 @@ TEST(GpuCaster, ConfigKeysAndChoices) {
   EXPECT_THROW(parseMclConfig(bad.map("mcl"), &lisa), ConfigError);
 }
 #endif
+
+}  // namespace polyloc::t_raycast_gpu

@@ -7,12 +7,14 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_raycast_grid2d {
+
 using namespace polyloc;
 using polyloc::test::castOne;
 using polyloc::test::freeAt;
 using polyloc::test::kInfRange;
 
-namespace {
 
 // Interior [-2, 2] x [-1.5, 1.5] x [0, 3]; walls 0.2 m thick; cells of 5 cm.
 struct Grid2dRoom : ::testing::Test {
@@ -21,7 +23,6 @@ struct Grid2dRoom : ::testing::Test {
   const float res = 0.05f;
 };
 
-}  // namespace
 
 TEST_F(Grid2dRoom, ThreeDRaysAreProjectedOntoThePlane) {
   // 45 deg up: the planar range 2 m becomes 2 / cos(45 deg); the ceiling is not in the slice.
@@ -52,3 +53,4 @@ TEST_F(Grid2dRoom, BuildsFromAMapGridAndGivesItBack) {
   EXPECT_THROW(Grid2dCaster{rotated}, std::invalid_argument);
 }
 
+}  // namespace polyloc::t_raycast_grid2d

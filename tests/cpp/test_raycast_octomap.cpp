@@ -7,17 +7,18 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_raycast_octomap {
+
 using namespace polyloc;
 using polyloc::test::freeAt;
 
-namespace {
 
 struct OctomapRoom : ::testing::Test {
   Mesh mesh = polyloc::test::boxRoom(2.f, 1.5f, 3.f, 0.2f);
   OctomapCaster caster{mesh, OctomapOptions{}};
 };
 
-}  // namespace
 
 TEST_F(OctomapRoom, SurfaceVoxelsAndClearance) {
   EXPECT_TRUE(caster.occupied({2.0f + 0.01f, 0, 1}) || caster.occupied({2.0f - 0.01f, 0, 1}));
@@ -29,3 +30,4 @@ TEST_F(OctomapRoom, SurfaceVoxelsAndClearance) {
   EXPECT_FALSE(freeAt(caster, {2.0f, 0, 1}, 0.f));  // on the wall surface
 }
 
+}  // namespace polyloc::t_raycast_octomap

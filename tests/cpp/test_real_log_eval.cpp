@@ -16,7 +16,7 @@
 
 #include <cstdio>
 
-namespace polyloc::test {
+namespace polyloc::test::t_real_log_eval {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 // A FLASER line (180 beams, -90..+89 deg, the CARMEN default) at `p`, and the log's lines for it.

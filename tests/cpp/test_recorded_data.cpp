@@ -14,7 +14,7 @@
 
 #include <cmath>
 
-namespace polyloc {
+namespace polyloc::t_recorded_data {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 msg::LaserScan flaserLike(size_t n = 180) {

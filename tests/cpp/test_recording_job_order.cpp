@@ -15,9 +15,11 @@
 #include <algorithm>
 #include <cstring>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_recording_job_order {
+
 using namespace polyloc;
 
-namespace {
 
 // The lab tour's messages, odometry written `late_ns` after its stamp (then in write order).
 std::shared_ptr<std::vector<RecordedMessage>> withLateOdometry(const test::CaptureWriter& rec, int64_t late_ns) {
@@ -49,7 +51,6 @@ bool samePoses(const reloc::JobResult& a, const reloc::JobResult& b) {
   return true;
 }
 
-}  // namespace
 
 TEST(RecordingJobOrder, LateOdometryGivesTheSameEstimates) {
   const test::LabTour tour(6);
@@ -69,3 +70,5 @@ TEST(RecordingJobOrder, LateOdometryGivesTheSameEstimates) {
   EXPECT_LT(m->all.p95_pos_err_m, 0.05);
   EXPECT_GT(too_late.frames.size(), in_order.frames.size() / 2);
 }
+
+}  // namespace polyloc::t_recording_job_order

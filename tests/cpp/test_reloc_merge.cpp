@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-namespace polyloc::reloc {
+namespace polyloc::reloc::t_reloc_merge {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 FrameRecord frame(int64_t t, double x) {

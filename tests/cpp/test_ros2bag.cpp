@@ -13,7 +13,7 @@
 #include <filesystem>
 #include <random>
 
-namespace polyloc {
+namespace polyloc::t_ros2bag {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 namespace fs = std::filesystem;

@@ -20,7 +20,7 @@
 #include <cmath>
 #include <limits>
 
-namespace polyloc {
+namespace polyloc::t_scan_mapper {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 // The room's walls: an axis-aligned rectangle, placed off the cell boundaries on purpose.
@@ -95,7 +95,9 @@ void expectRoomGrid(const OccupancyGrid& g, const Room& room) {
         ++inside;
         inside_free += v == OccupancyGrid::kFree;
       }
-      if (d > 1.5 * res) EXPECT_EQ(v, OccupancyGrid::kUnknown) << "outside cell at " << px << ", " << py;
+      if (d > 1.5 * res) {
+        EXPECT_EQ(v, OccupancyGrid::kUnknown) << "outside cell at " << px << ", " << py;
+      }
     }
   EXPECT_GT(occupied, 0u);
   EXPECT_GE(double(inside_free), 0.99 * double(inside)) << inside_free << " of " << inside << " inside cells free";
@@ -222,9 +224,27 @@ TEST(ScanMapper, BadScansAreRefusedWithTheReason) {
   small.max_cells = 100000;
   ScanMapper s(small);
   EXPECT_EQ(s.add(0, 0, 0, ok, 2, 0, 0.1, 0, 10), ScanMapper::Added::Used);
-  EXPECT_EQ(s.add(100, 0, 0, ok, 2, 0, 0.1, 0, 10), ScanMapper::Added::TooLarge);
+  EXPECT_EQ(s.add(100, 100, 0, ok, 2, 0, 0.1, 0, 10), ScanMapper::Added::TooLarge);  // 2000 x 2000 cells
   EXPECT_EQ(s.scans(), 1u);
   EXPECT_LT(s.grid().width, 100u);
+}
+
+// Whether a scan fits max_cells depends on the cells observed, not on the margins the grid grew
+// by: a robot driving 100 m along a line observes a 2,000 x 10 cell strip, which fits 100,000
+// cells (the grid used to keep its 64-cell margins across the line and refuse every scan after
+// 38 m, and, near the limit, copied the whole grid once per scan).
+TEST(ScanMapper, ALongStripFitsTheBudgetItsCellsFit) {
+  ScanMapperConfig small;
+  small.max_cells = 100000;
+  ScanMapper m(small);
+  const float ranges[3] = {0.2f, 0.2f, 0.2f};
+  for (int k = 0; k <= 200; ++k)
+    ASSERT_EQ(m.add(0.5 * k, 0, 0, ranges, 3, -0.1, 0.1, 0, 10), ScanMapper::Added::Used) << "scan at x = " << 0.5 * k;
+  const OccupancyGrid g = m.grid();
+  EXPECT_NEAR(double(g.width) * g.resolution, 100.2, 0.3);
+  EXPECT_LT(g.height, 20u);
+  // The last scan's middle beam hit at x = 100.2 m (plus half a cell, hit_beyond).
+  EXPECT_EQ(g.at(size_t((100.23 - g.origin_x) / g.resolution), size_t((0.01 - g.origin_y) / g.resolution)), OccupancyGrid::kOccupied);
 }
 
 TEST(ScanMapper, ConfigErrorsNameTheField) {
@@ -351,7 +371,9 @@ TEST(MapExtrudeCarmen, ExtrudedWallsAreWhereTheRoomsAre) {
 
   // Rays from the room centre at mid height, every 5 deg: the true wall distance within 2 cells.
   const Mesh mesh = loadMesh(dir.file("room.obj"));
-  EmbreeCaster caster(mesh, {.threads = 1});
+  EmbreeOptions one_thread;
+  one_thread.threads = 1;
+  EmbreeCaster caster(mesh, one_thread);
   constexpr size_t n = 72;
   std::vector<float> ox(n, float(room.cx())), oy(n, float(room.cy())), oz(n, 1.0f), dx(n), dy(n), dz(n, 0.0f), range(n);
   for (size_t k = 0; k < n; ++k) dx[k] = float(std::cos(k * 2 * M_PI / n)), dy[k] = float(std::sin(k * 2 * M_PI / n));

@@ -4,14 +4,15 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sensors {
+
 using namespace polyloc;
 
-namespace {
 void expectUnit(const BeamSet& b) {
   for (size_t i = 0; i < b.size(); ++i)
     ASSERT_NEAR(std::sqrt(b.dx[i] * b.dx[i] + b.dy[i] * b.dy[i] + b.dz[i] * b.dz[i]), 1.0, 1e-6) << i;
 }
-}  // namespace
 
 TEST(Sensors, PlanarPresets) {
   const BeamSet s300 = sickS300().beams();
@@ -77,3 +78,5 @@ TEST(Sensors, MountedSensorAndPresets) {
     EXPECT_NE(std::string(e.what()).find("hokuyo_urg04lx"), std::string::npos);
   }
 }
+
+}  // namespace polyloc::t_sensors

@@ -9,7 +9,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-namespace polyloc {
+namespace polyloc::t_shm_abi {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 using shm::Segment;

@@ -14,7 +14,7 @@
 #include <thread>
 #include <tuple>
 
-namespace polyloc {
+namespace polyloc::t_shm_c_abi {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 using shm::Reader;

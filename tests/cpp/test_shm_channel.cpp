@@ -8,7 +8,7 @@
 #include <tuple>
 #include <thread>
 
-namespace polyloc {
+namespace polyloc::t_shm_channel {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 using shm::Reader;

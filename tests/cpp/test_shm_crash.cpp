@@ -11,7 +11,7 @@
 #include <chrono>
 #include <thread>
 
-namespace polyloc {
+namespace polyloc::t_shm_crash {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 using shm::Reader;

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace polyloc {
+namespace polyloc::t_shm_layout {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 // Every field of the ABI structs, as the compiler lays it out.
@@ -162,8 +162,9 @@ TEST(ShmLayout, TheDocumentedLayoutIsTheCompiledOne) {
     if (c.size() >= 3 && c[0].size() > 2 && payloads.count(c[0].substr(1, c[0].size() - 2))) {
       // | `polyloc_pose` | 440 | `stamp_ns` ..., `latency_ns` (432): ... |
       const std::string type = c[0].substr(1, c[0].size() - 2);
-      if (abiSizes().count(type) && std::all_of(c[1].begin(), c[1].end(), ::isdigit))
+      if (abiSizes().count(type) && std::all_of(c[1].begin(), c[1].end(), ::isdigit)) {
         EXPECT_EQ(abiSizes().at(type), std::stoul(c[1])) << type;
+      }
       const std::string& text = c[2];
       for (auto it = std::sregex_iterator(text.begin(), text.end(), payload_ref); it != std::sregex_iterator(); ++it) {
         const std::string name = (*it)[1];
@@ -182,8 +183,9 @@ TEST(ShmLayout, TheDocumentedLayoutIsTheCompiledOne) {
   EXPECT_GE(payload_refs, 23u);  // as many as the payload table pins today
   for (const Field& f : abiFields())
     if (f.type == "polyloc_shm_header" || f.type == "polyloc_channel_desc" || f.type == "polyloc_ring_control" ||
-        f.type == "polyloc_slot_header")
+        f.type == "polyloc_slot_header") {
       EXPECT_TRUE(documented.count(f.type + "." + f.name)) << f.type << "." << f.name << " is not in docs/interface.md";
+    }
 }
 
 TEST(ShmLayout, PayloadSizePerKind) {

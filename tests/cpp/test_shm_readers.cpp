@@ -8,7 +8,7 @@
 #include <chrono>
 #include <thread>
 
-namespace polyloc {
+namespace polyloc::t_shm_readers {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 using namespace std::chrono_literals;

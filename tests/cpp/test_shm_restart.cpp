@@ -8,7 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-namespace polyloc {
+namespace polyloc::t_shm_restart {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 using shm::Reader;

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <limits>
 
-namespace polyloc {
+namespace polyloc::t_shm_validate {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 using shm::Reject;

@@ -8,9 +8,11 @@
 #include <stdexcept>
 #include <string>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_base_motion {
+
 using namespace polyloc;
 
-namespace {
 
 constexpr int64_t kSec = 1000000000;
 
@@ -24,7 +26,6 @@ void drive(BaseMotion& b, double vx, double vy, double wz, int64_t until, int64_
 
 BaseMotion differential(const Pose& start = Pose()) { return BaseMotion(Kinematics::Differential, {}, start, 0); }
 
-}  // namespace
 
 TEST(SimBaseMotion, RampsUpWithinTheAccelerationLimitThenCruises) {
   BaseMotion b = differential();
@@ -162,3 +163,5 @@ TEST(SimBaseMotion, BadLimitsThrowNamingTheField) {
     EXPECT_NE(std::string(e.what()).find("max_acc"), std::string::npos) << e.what();
   }
 }
+
+}  // namespace polyloc::t_sim_base_motion

@@ -10,9 +10,11 @@
 #include <stdexcept>
 #include <string>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_body_collision {
+
 using namespace polyloc;
 
-namespace {
 
 RobotSpec rect(double lx, double ly, double height) {
   RobotSpec r;
@@ -48,7 +50,6 @@ void expectWithinBody(const BodyContact& c, const Pose& p, double reach, double 
   EXPECT_LE(c.where.z(), p.z() + height + 1e-9);
 }
 
-}  // namespace
 
 TEST(SimBodyCollision, WallsOfTheRoom) {
   const Mesh m = furnishedRoom();
@@ -207,3 +208,5 @@ TEST(SimBodyCollision, FarAndBrokenTrianglesDoNotHurt) {
   EXPECT_FALSE(body.check(Pose::planar(0, 0, 0)).hit);
   EXPECT_EQ(body.check(Pose::planar(2.71, 0, 0)).label, "wall");
 }
+
+}  // namespace polyloc::t_sim_body_collision

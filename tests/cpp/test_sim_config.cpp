@@ -11,9 +11,11 @@
 
 #include <filesystem>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_config {
+
 using namespace polyloc;
 
-namespace {
 
 const std::string kSource = POLYLOC_SOURCE_DIR;
 
@@ -35,7 +37,6 @@ std::string scenarioText(const std::string& extra) {
          "  waypoints: [[1, 1.75], [3, 1.75]]\n" + extra;
 }
 
-}  // namespace
 
 TEST(SimConfig, ReaderValuesAndUnits) {
   ConfigMap m = ConfigMap::parse("a: 1.5\nb: 90\nc: 0.5 rad\nd: yes\ne: [1, 2]\nf: {g: 3}\n", "t.yaml");
@@ -237,3 +238,5 @@ TEST(SimConfig, ScenarioNoiseOverridesByPresetAndName) {
   EXPECT_NEAR(s.chairs.random_rotation, deg2rad(10), 1e-15);
   EXPECT_EQ(s.start_time_ns, 12500000000LL);
 }
+
+}  // namespace polyloc::t_sim_config

@@ -7,9 +7,11 @@
 #include <cmath>
 #include <stdexcept>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_convex_overlap {
+
 using namespace polyloc;
 
-namespace {
 
 // Unit cube [0, 1]^3 shifted by d, optionally turned about z by yaw about its centre.
 ConvexShape cube(const Eigen::Vector3d& d = Eigen::Vector3d::Zero(), double yaw = 0) {
@@ -23,7 +25,6 @@ double area(const std::vector<Eigen::Vector2d>& p) {
   return 0.5 * a;
 }
 
-}  // namespace
 
 TEST(SimConvexOverlap, CubesOverlapTouchOrSeparate) {
   EXPECT_TRUE(overlap(cube(), cube({0.5, 0.2, -0.3})));
@@ -89,3 +90,5 @@ TEST(SimConvexOverlap, ConvexPiecesOfAnLShape) {
   EXPECT_THROW(convexPieces({{0, 0}, {1, 1}, {1, 0}, {0, 1}}), std::invalid_argument);  // a bow tie
   EXPECT_THROW(convexPieces({{0, 0}, {1, 0}}), std::invalid_argument);
 }
+
+}  // namespace polyloc::t_sim_convex_overlap

@@ -10,9 +10,11 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_drive {
+
 using namespace polyloc;
 
-namespace {
 
 const std::string kSource = POLYLOC_SOURCE_DIR;
 
@@ -36,7 +38,6 @@ void drive(DriveSim& d, double vx, double wz, double seconds, test::CaptureWrite
   }
 }
 
-}  // namespace
 
 TEST(SimDrive, StepperGivesTheMessagesOfAWholeRun) {
   Scenario s = loadScenario(kSource + "/maps/scenarios/lab_tour.yaml");
@@ -186,3 +187,5 @@ TEST(SimDrive, BadOptionsNameTheField) {
   o.command_latency = std::nan("");
   EXPECT_THROW(DriveSim(sim, o), std::invalid_argument);
 }
+
+}  // namespace polyloc::t_sim_drive

@@ -6,9 +6,11 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_odometry {
+
 using namespace polyloc;
 
-namespace {
 
 struct Final {
   double along = 0, lateral = 0, yaw = 0;
@@ -33,7 +35,6 @@ struct Var {
   double var() const { return s2 / n - mean() * mean(); }
 };
 
-}  // namespace
 
 TEST(SimOdometry, StraightRunDriftFollowsAlphas) {
   OdometryNoise n;
@@ -104,3 +105,5 @@ TEST(SimOdometry, UnevenFloorAddsSlipAndSlopeError) {
   }
   EXPECT_NEAR(along.var(), 0.01 * 100 * 0.01, 0.25 * 0.01);  // slip_translation * total roll change
 }
+
+}  // namespace polyloc::t_sim_odometry

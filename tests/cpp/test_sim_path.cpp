@@ -8,17 +8,18 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_path {
+
 using namespace polyloc;
 using V2 = Eigen::Vector2d;
 
-namespace {
 Waypoint wp(double x, double y, std::optional<double> heading = {}, double wait = 0) {
   Waypoint w;
   w.p = {x, y}, w.heading = heading, w.wait = wait;
   return w;
 }
 std::vector<V2> zigzag() { return {{0, 0}, {2, 0}, {3, 1.5}, {3.2, 4}, {1, 5}, {-1, 4}}; }
-}  // namespace
 
 TEST(SimPath, DensifyKeepsPointsAndSpacing) {
   std::vector<int> index;
@@ -189,3 +190,5 @@ TEST(SimTrajectory, OmniKeepsGivenHeading) {
   const Trajectory fixed(r, Kinematics::Omni);
   for (double t = 0; t < fixed.duration(); t += 0.5) EXPECT_NEAR(fixed.at(t).yaw, 0.3, 1e-12);
 }
+
+}  // namespace polyloc::t_sim_path

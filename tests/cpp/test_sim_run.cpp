@@ -12,9 +12,11 @@
 #include <cmath>
 #include <set>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_run {
+
 using namespace polyloc;
 
-namespace {
 
 const std::string kSource = POLYLOC_SOURCE_DIR;
 
@@ -31,7 +33,6 @@ std::string runDump(const Scenario& s, const Mesh& map) {
   return test::dumpAll(w);
 }
 
-}  // namespace
 
 // Every 5 cm of every route, and at every stop in all headings, the robot's outline is free of
 // walls and furniture (moved chairs included) at body heights (the floor excluded).
@@ -253,3 +254,5 @@ TEST(SimRun, ChairsMoveBetweenRuns) {
   }
   EXPECT_TRUE(differ);
 }
+
+}  // namespace polyloc::t_sim_run

@@ -10,9 +10,11 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_sensors {
+
 using namespace polyloc;
 
-namespace {
 
 struct Stats {
   double n = 0, sum = 0, sum2 = 0;
@@ -50,7 +52,6 @@ Mesh roomWithPillar() {
   return m;
 }
 
-}  // namespace
 
 TEST(SimSensors, RangeNoiseMatchesSettingsPerModel) {
   const Mesh map = room();
@@ -317,3 +318,5 @@ TEST(SimSensors, LidarPointCloud) {
   EXPECT_NEAR(std::asin(p[2] / r), deg2rad(-15), 1e-4);
   EXPECT_NEAR(r, 1.0 / std::sin(deg2rad(15)), 0.15);  // the floor, 1 m below
 }
+
+}  // namespace polyloc::t_sim_sensors

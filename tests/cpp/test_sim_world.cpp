@@ -13,9 +13,11 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_sim_world {
+
 using namespace polyloc;
 
-namespace {
 
 Mesh room() { return test::boxRoom(4.f, 3.f, 2.5f, 0.2f); }
 
@@ -57,7 +59,6 @@ Scenario quietScanner(const Sensor& sensor, const std::string& preset, double du
   return s;
 }
 
-}  // namespace
 
 TEST(SimWorld, RemovedObjectsAreGoneAndAMissingOneIsAnErrorNamingItsEntry) {
   const Mesh map = furnished();
@@ -293,3 +294,5 @@ TEST(SimWorldYaml, BadWorldsAreErrorsNamingFileLineAndKey) {
   const std::string loop = dir.write("loop.yaml", "base: loop.yaml\n");
   EXPECT_THROW(loadScenario(loop), ConfigError);
 }
+
+}  // namespace polyloc::t_sim_world

@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_source_clock {
+
 using namespace polyloc::pipeline;
 using V = SourceClock::Verdict;
 
-namespace {
 constexpr int64_t kMs = 1'000'000, kS = 1'000'000'000;
 constexpr int64_t kT0 = 1'700'000'000 * kS;
 
@@ -22,7 +24,6 @@ int64_t feed(SourceClock& c, int64_t from, int n, int64_t last[2]) {
   }
   return from;
 }
-}  // namespace
 
 TEST(SourceClock, OneFarFutureStampIsRefusedAndChangesNothing) {
   SourceClock c(500 * kMs, 2 * kS, 5);
@@ -143,3 +144,5 @@ TEST(SourceClock, AFrameSentAThousandTimesIsARepeatNotAVote) {
   }
   EXPECT_EQ(c.jumps(), 0u);
 }
+
+}  // namespace polyloc::t_source_clock

@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_tracking_config {
+
 using namespace polyloc;
 
-namespace {
 
 std::string errorOf(const std::string& text, const Rig* rig = nullptr) {
   try {
@@ -20,7 +22,6 @@ std::string errorOf(const std::string& text, const Rig* rig = nullptr) {
   return "";
 }
 
-}  // namespace
 
 TEST(TrackingConfigYaml, ReadsValuesAndKeepsDefaults) {
   ConfigMap m = ConfigMap::parse("tracking:\n  sensors: [a, b]\n  sync_tolerance: 0.01\n"
@@ -82,3 +83,5 @@ TEST(TrackingConfigYaml, PeopleTrackerUsesTheLevelScanners) {
   EXPECT_THROW(PeopleTracker(lisa, c), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(rigPreset("taser"), c), std::invalid_argument);  // no such sensor
 }
+
+}  // namespace polyloc::t_tracking_config

@@ -9,9 +9,11 @@
 #include <cmath>
 #include <limits>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_tracking_hungarian {
+
 using namespace polyloc;
 
-namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -48,7 +50,6 @@ std::pair<size_t, double> bruteForce(const Eigen::MatrixXd& c) {
   return best;
 }
 
-}  // namespace
 
 TEST(Hungarian, SquareKnownOptimum) {
   Eigen::MatrixXd c(3, 3);
@@ -115,3 +116,5 @@ TEST(Hungarian, RandomMatricesMatchBruteForce) {
     EXPECT_NEAR(total(c, a), s, 1e-9) << "trial " << trial;
   }
 }
+
+}  // namespace polyloc::t_tracking_hungarian

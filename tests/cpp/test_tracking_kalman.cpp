@@ -5,6 +5,9 @@
 
 #include <cmath>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_tracking_kalman {
+
 using namespace polyloc;
 
 TEST(TrackingKalman, PredictWithoutNoiseMovesAndSpreads) {
@@ -68,3 +71,5 @@ TEST(TrackingKalman, StartClampAndEllipse) {
   EXPECT_NEAR(e.major, 0.2, 1e-12);
   EXPECT_NEAR(e.angle, a, 1e-9);
 }
+
+}  // namespace polyloc::t_tracking_kalman

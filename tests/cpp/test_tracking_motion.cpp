@@ -11,11 +11,13 @@
 #include <cmath>
 #include <limits>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_tracking_motion {
+
 using namespace polyloc;
 using test::kTestStep;
 using test::Scene2D;
 
-namespace {
 
 Pose level(double x, double y, double yaw) { return Pose::fromXYZRPY(x, y, 0.1, 0, 0, yaw); }
 
@@ -24,7 +26,6 @@ Scene2D pillaredRoom() {
   return Scene2D::room(5, 3).with({0.0, 0.8}, 0.2).with({1.5, -1.2}, 0.3);
 }
 
-}  // namespace
 
 TEST(TrackingMotion, StaticSceneWithEgoMotionGivesNothing) {
   const PlanarScannerSpec spec = sickS300();
@@ -158,3 +159,5 @@ TEST(TrackingMotion, LookSeesEmptyOccupiedAndHidden) {
   EXPECT_EQ(det.look({2, 0}, 0.3), MotionDetector::Look::Hidden);   // behind the pillar
   EXPECT_EQ(det.look({-6, 0}, 0.3), MotionDetector::Look::Hidden);  // behind the scanner
 }
+
+}  // namespace polyloc::t_tracking_motion

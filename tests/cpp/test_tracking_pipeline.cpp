@@ -9,11 +9,13 @@
 
 #include <map>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_tracking_pipeline {
+
 using namespace polyloc;
 using test::kTestStep;
 using test::Scene2D;
 
-namespace {
 
 Rig scannerRig(int scanners) {
   Rig rig;
@@ -62,8 +64,9 @@ void runCrossing(int scanners) {
   EXPECT_EQ(people.counters().scans, 70u * rig.size());
 }
 
-}  // namespace
 
 TEST(TrackingPipeline, CrossingBoxesKeepTheirIds) { runCrossing(1); }
 
 TEST(TrackingPipeline, TwoScannersOneTrackPerBox) { runCrossing(2); }
+
+}  // namespace polyloc::t_tracking_pipeline

@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_tracking_quality {
+
 using namespace polyloc;
 
-namespace {
 
 TrackingQuality evaluate(const std::string& name, double duration, bool odometry = false) {
   const Scenario s = loadScenario(std::string(POLYLOC_SOURCE_DIR) + "/maps/scenarios/" + name + ".yaml");
@@ -25,7 +27,6 @@ void expectBounds(const MotMetrics& m, const std::string& what) {
   EXPECT_GT(m.track_seconds, 20.0) << what;
 }
 
-}  // namespace
 
 TEST(TrackingQuality, LabTourMeetsTheBounds) {
   const TrackingQuality q = evaluate("lab_tour", 0);
@@ -59,3 +60,5 @@ TEST(TrackingQuality, FramesForPlotsAreInTheMapFrame) {
   EXPECT_GT(total, 50u);
   EXPECT_GE(near, total * 9 / 10);  // odometry tracks mapped back onto the people
 }
+
+}  // namespace polyloc::t_tracking_quality

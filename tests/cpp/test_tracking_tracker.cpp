@@ -8,9 +8,11 @@
 #include <cmath>
 #include <optional>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_tracking_tracker {
+
 using namespace polyloc;
 
-namespace {
 
 constexpr int64_t kStep = 80'000'000;  // 12.5 Hz
 
@@ -29,7 +31,6 @@ std::optional<TrackState> find(const Tracks& t, uint32_t id) {
   return std::nullopt;
 }
 
-}  // namespace
 
 TEST(TrackingTracker, ConfirmedAfterNHitsDroppedAfterTimeout) {
   TrackerConfig c;
@@ -198,3 +199,5 @@ TEST(TrackingTracker, PersonBackFromHidingKeepsTheirId) {
   run(c, a, b, o);
   EXPECT_NE(b, a);
 }
+
+}  // namespace polyloc::t_tracking_tracker

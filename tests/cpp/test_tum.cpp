@@ -9,7 +9,7 @@
 #include <cmath>
 #include <random>
 
-namespace polyloc {
+namespace polyloc::t_tum {  // the file's own: the suite is compiled in batches (unity build)
 namespace {
 
 TEST(Tum, RoundTripKeepsNanosecondsAndMicrometres) {

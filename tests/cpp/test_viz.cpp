@@ -8,6 +8,9 @@
 
 #include <filesystem>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_viz {
+
 using namespace polyloc;
 
 TEST(Slice, BoxRoomSliceIsItsWalls) {
@@ -41,3 +44,5 @@ TEST(TopView, WritesPngAndReportsBadPath) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.png"), std::string::npos);
   }
 }
+
+}  // namespace polyloc::t_viz

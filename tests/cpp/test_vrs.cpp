@@ -13,10 +13,12 @@
 #include <cmath>
 #include <limits>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_vrs {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 
 // A 360 deg scanner at `z` with `pitch` (down > 0), 0.5 deg resolution, 8 m.
 Sensor scanner(const std::string& name, double z, double pitch_deg, double yaw_deg = 0) {
@@ -43,7 +45,6 @@ float at(const VirtualScan& v, double deg) {
   return v.ranges[size_t(a / v.angle_increment)];
 }
 
-}  // namespace
 
 TEST(Vrs, DirectScannerGivesTheWalls) {
   const Mesh room = boxRoom(4.f, 3.f, 2.5f, 0.2f);  // walls at x = +-4, y = +-3
@@ -286,3 +287,5 @@ TEST(VrsTruth, NearestSurfaceInTheBandPerSegment) {
   cfg.range_max = 2.0;
   EXPECT_FALSE(std::isfinite(trueVirtualScan(caster, people.scene(0, {0, 0}), Pose::planar(0.2, 0, 0), cfg)[0]));
 }
+
+}  // namespace polyloc::t_vrs

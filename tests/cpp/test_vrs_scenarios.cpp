@@ -12,10 +12,12 @@
 #include <cmath>
 #include <cstdio>
 
+// Each test file in a namespace of its own: the suite is compiled in batches (unity build).
+namespace polyloc::t_vrs_scenarios {
+
 using namespace polyloc;
 using namespace polyloc::test;
 
-namespace {
 
 VrsConfig horizontalOnly() {
   VrsConfig c;
@@ -27,7 +29,6 @@ VrsConfig horizontalOnly() {
 // Distance along the robot's heading from its front... from base_link to the plane x = edge.
 double ahead(const Pose& truth, double edge_x) { return edge_x - truth.x(); }
 
-}  // namespace
 
 // Thesis fig. 6.15-6.17: a chair in the corridor; its seat is above the horizontal scan plane.
 TEST(VrsScenario, ChairSeatAboveTheScanPlane) {
@@ -190,3 +191,5 @@ TEST(VrsScenario, LowBinSeenByTofStays) {
   std::printf("[vrs] low bin: VRS %.3f m, truth %.3f m\n", last, truth);
   EXPECT_NEAR(last, truth, 0.05);
 }
+
+}  // namespace polyloc::t_vrs_scenarios

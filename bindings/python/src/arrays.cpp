@@ -16,7 +16,7 @@ void requireExists(const std::string& path, const char* what) {
   if (!std::filesystem::exists(path, ec)) raise(PyExc_FileNotFoundError, std::string(what) + ": no such file: '" + path + "'");
 }
 
-namespace {
+namespace arrays_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 std::string shapeText(const pb::array& a) {
   std::ostringstream s;
@@ -62,19 +62,23 @@ pb::array_t<T, pb::array::c_style | pb::array::forcecast> checked(const pb::hand
   return a;
 }
 
-}  // namespace
+}  // namespace arrays_impl
 
 F32Array floatArray(const pb::handle& obj, const char* name, std::vector<pb::ssize_t> shape) {
+  using namespace arrays_impl;
   return checked<float>(obj, name, shape, "float32");
 }
 F64Array doubleArray(const pb::handle& obj, const char* name, std::vector<pb::ssize_t> shape) {
+  using namespace arrays_impl;
   return checked<double>(obj, name, shape, "float64");
 }
 U8Array byteArray(const pb::handle& obj, const char* name, std::vector<pb::ssize_t> shape) {
+  using namespace arrays_impl;
   return checked<uint8_t>(obj, name, shape, "uint8");
 }
 
 F32Array rangesArray(const pb::handle& obj, const char* name, size_t size) {
+  using namespace arrays_impl;
   F32Array a = floatArray(obj, name, {-1});
   if (static_cast<size_t>(a.size()) != size)
     raise(PyExc_ValueError, std::string(name) + ": expected " + std::to_string(size) + " ranges (one per beam), got " +
@@ -83,6 +87,7 @@ F32Array rangesArray(const pb::handle& obj, const char* name, size_t size) {
 }
 
 Pose toPose(const pb::handle& obj, const char* name) {
+  using namespace arrays_impl;
   if (pb::isinstance<Pose>(obj)) return obj.cast<Pose>();
   if (obj.is_none()) raise(PyExc_TypeError, std::string(name) + ": expected a Pose, got None");
   pb::array raw = pb::array::ensure(obj);
@@ -100,6 +105,7 @@ Pose toPose(const pb::handle& obj, const char* name) {
 }
 
 std::vector<Pose> toPoses(const pb::handle& obj, const char* name) {
+  using namespace arrays_impl;
   std::vector<Pose> out;
   if (pb::isinstance<Pose>(obj)) return {obj.cast<Pose>()};
   if (pb::isinstance<pb::array>(obj)) {
@@ -117,12 +123,14 @@ std::vector<Pose> toPoses(const pb::handle& obj, const char* name) {
 }
 
 pb::array_t<double> matrixArray(const Eigen::Matrix<double, 6, 6>& m) {
+  using namespace arrays_impl;
   pb::array_t<double> a({6, 6});
   Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(a.mutable_data()) = m;
   return a;
 }
 
 Eigen::Matrix<double, 6, 6> toCovariance(const pb::handle& obj, const char* name) {
+  using namespace arrays_impl;
   const F64Array c = doubleArray(obj, name, {6, 6});
   return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(c.data());
 }

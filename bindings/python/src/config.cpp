@@ -10,7 +10,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace config_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 const char* upAxisName(UpAxis a) {
   switch (a) {
@@ -22,9 +22,10 @@ const char* upAxisName(UpAxis a) {
   return "auto";
 }
 
-}  // namespace
+}  // namespace config_impl
 
 void bindConfig(pb::module_& m) {
+  using namespace config_impl;
   pb::class_<RobotSpec>(m, "RobotSpec", "The robot's body: footprint (or radius), height, kinematics.")
       .def(pb::init<>())
       .def_property_readonly("footprint", [](const RobotSpec& r) {
@@ -52,6 +53,7 @@ Sections are the settings structs the kernels take; they can be changed before t
       .def_readwrite("tracking", &PolylocConfig::tracking)
       .def_readwrite("depth_filter", &PolylocConfig::depth_filter)
       .def("__repr__", [](const PolylocConfig& c) {
+  using namespace config_impl;
         return fmt::format("<polyloc.Config '{}': map '{}', rig '{}' with {} sensors>", c.file, c.map.file, c.rig.name, c.rig.size());
       });
 

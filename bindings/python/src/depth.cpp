@@ -13,7 +13,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace depth_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 #define POLYLOC_RW(f) .def_readwrite(#f, &T::f)
 
@@ -81,9 +81,10 @@ pb::array_t<T> imageView(pb::object self, const std::vector<V> DepthFilterResult
   return view<T>(reinterpret_cast<const T*>((r.*field).data()), {r.height, r.width}, self);
 }
 
-}  // namespace
+}  // namespace depth_impl
 
 void bindDepth(pb::module_& m) {
+  using namespace depth_impl;
   bindDepthConfig(m);
 
   pb::class_<DepthFilterResult>(m, "DepthResult", "What DepthFilter.apply kept and why it dropped the rest.")
@@ -116,6 +117,7 @@ Depth images are (H, W) along the optical axis in metres, NaN/inf/<= 0 for no me
 (amplitude and a registered (H, W, 3) uint8 RGB image are optional). Bad values are rejected
 pixels, never errors; a wrong image shape is a ValueError.)")
       .def(pb::init([](const DepthCameraSpec& camera, const pb::handle& mount, const DepthFilterConfig& config) {
+  using namespace depth_impl;
              return DepthFilter(camera, mount.is_none() ? Pose() : toPose(mount, "mount"), config);
            }),
            pb::arg("camera"), pb::arg("mount") = pb::none(), pb::arg("config") = DepthFilterConfig{},

@@ -7,7 +7,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace geometry_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 pb::array_t<double> vec(const Eigen::Vector3d& v) {
   pb::array_t<double> a(3);
@@ -30,9 +30,10 @@ pb::array_t<double> transformPoints(const Pose& p, const pb::handle& points) {
   return out;
 }
 
-}  // namespace
+}  // namespace geometry_impl
 
 void bindGeometry(pb::module_& m) {
+  using namespace geometry_impl;
   pb::class_<Pose>(m, "Pose", R"(A rigid transform in 3D (SE(3)): rotation as a unit quaternion, translation in metres.
 
 A Pose maps points of its child frame into its parent frame: ``p_parent = pose * p_child``;
@@ -42,6 +43,7 @@ about y, then yaw about z (R = Rz(yaw) Ry(pitch) Rx(roll)), as in ROS.
 Wherever polyloc takes a pose it also takes a (4, 4) matrix or a sequence
 (x, y, z, roll, pitch, yaw).)")
       .def(pb::init([](double x, double y, double z, double roll, double pitch, double yaw) {
+  using namespace geometry_impl;
              return Pose::fromXYZRPY(x, y, z, roll, pitch, yaw);
            }),
            pb::arg("x") = 0.0, pb::arg("y") = 0.0, pb::arg("z") = 0.0, pb::arg("roll") = 0.0, pb::arg("pitch") = 0.0,

@@ -16,7 +16,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace localizer_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 struct PyLocalizer {
   std::shared_ptr<const Mesh> mesh;
@@ -96,9 +96,10 @@ pb::dict particles(const ParticleSet& p) {
   return d;
 }
 
-}  // namespace
+}  // namespace localizer_impl
 
 void bindLocalizer(pb::module_& m) {
+  using namespace localizer_impl;
   pb::class_<MclEstimate>(m, "Estimate", "A pose estimate of the localiser.")
       .def_readonly("stamp_ns", &MclEstimate::stamp_ns)
       .def_readonly("pose", &MclEstimate::pose, "map_T_base")
@@ -135,6 +136,7 @@ Calls release the GIL; one Localizer serves one thread at a time.)")
       .def(pb::init(&fromConfig), pb::arg("config"), pb::arg("mesh") = nullptr, pb::arg("caster") = nullptr,
            "From a Config: its rig and mcl settings; the map is loaded (and the caster built) unless given.")
       .def(pb::init([](std::shared_ptr<const EmbreeCaster> caster, std::shared_ptr<const Mesh> mesh, Rig rig, MclConfig mcl) {
+  using namespace localizer_impl;
              return std::make_unique<PyLocalizer>(std::move(caster), std::move(mesh), std::move(rig), std::move(mcl));
            }),
            pb::arg("caster"), pb::arg("mesh"), pb::arg("rig"), pb::arg("mcl") = MclConfig{})

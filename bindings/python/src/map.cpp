@@ -13,7 +13,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace map_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 pb::array_t<float> boxArray(const Eigen::AlignedBox3f& b) {
   pb::array_t<float> a({2, 3});
@@ -64,9 +64,10 @@ std::shared_ptr<Mesh> meshFromArrays(const pb::handle& vertices, const pb::handl
   return mesh;
 }
 
-}  // namespace
+}  // namespace map_impl
 
 void bindMap(pb::module_& m) {
+  using namespace map_impl;
   pb::class_<Mesh, std::shared_ptr<Mesh>>(m, "Mesh", R"(A polygon map: indexed triangles in the map frame (z up, metres) with a label per triangle.
 
 vertices, triangles and labels are read-only numpy views of the mesh's own memory (no copy).
@@ -76,6 +77,7 @@ Solids are closed and their triangles wind counter-clockwise seen from outside.)
            "Mesh from arrays: vertices (N, 3), triangles (M, 3) vertex indices, labels (M,) indices into\n"
            "label_names (default: all 0, with label_names [''], i.e. unlabelled).")
       .def_property_readonly("vertices", [](pb::object self) {
+  using namespace map_impl;
         const Mesh& mesh = self.cast<const Mesh&>();
         return view<float>(mesh.vertices.empty() ? nullptr : mesh.vertices[0].data(),
                            {static_cast<pb::ssize_t>(mesh.vertices.size()), 3}, self);

@@ -6,7 +6,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace messages_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 pb::module_ numpy() { return pb::module_::import("numpy"); }
 
@@ -159,9 +159,10 @@ pb::dict convert(const msg::TrackArray& t) {
   return d;
 }
 
-}  // namespace
+}  // namespace messages_impl
 
 pb::dict toPython(const msg::Message& m) {
+  using namespace messages_impl;
   return std::visit([](const auto& v) { return convert(v); }, m);
 }
 

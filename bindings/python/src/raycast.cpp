@@ -15,7 +15,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace raycast_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 // Output arrays for `shape` rays; normals are written SoA into a (3, ...) array and handed out
 // as its transpose, an (..., 3) view.
@@ -95,9 +95,10 @@ pb::object castScans(const EmbreeCaster& caster, const pb::handle& poses, const 
   return hits.result(full);
 }
 
-}  // namespace
+}  // namespace raycast_impl
 
 void bindRaycast(pb::module_& m) {
+  using namespace raycast_impl;
   pb::class_<EmbreeCaster, std::shared_ptr<EmbreeCaster>>(m, "EmbreeCaster", R"(Batch ray casting against a Mesh with Embree 3.
 
 Ranges are metres along unit directions; a miss is +inf (or the window end with
@@ -105,6 +106,7 @@ miss_is_max_range). A ray that starts inside a closed solid (its first surface i
 has range equal to its window start when backface_is_solid is set (the default). The caster keeps
 its own copy of the mesh. Casting releases the GIL and runs on `threads` threads (0: all cores).)")
       .def(pb::init([](const Mesh& mesh, int threads, bool robust, bool high_quality_bvh) {
+  using namespace raycast_impl;
              EmbreeOptions o;
              o.threads = threads, o.robust = robust, o.high_quality_bvh = high_quality_bvh;
              pb::gil_scoped_release nogil;
@@ -132,6 +134,7 @@ float32, or with hits=True a dict of range, triangle (uint32, 0xFFFFFFFF for a m
 sensor_poses: map_T_sensor as a Pose, a list of them or a (P, 4, 4) array. Rays look in the beams'
 [range_min, range_max], narrowed per beam by window_min / window_max ((B,) arrays) when given.)")
       .def("scan", [](const EmbreeCaster& c, const Sensor& s, const pb::handle& base_poses, bool hits) {
+  using namespace raycast_impl;
         std::vector<Pose> p = toPoses(base_poses, "map_T_base");
         pb::list world;
         for (const Pose& q : p) world.append(pb::cast(s.worldPose(q)));

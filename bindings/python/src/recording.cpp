@@ -12,7 +12,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace recording_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 struct PyRecording {
   std::string path;
@@ -40,9 +40,10 @@ pb::object next(PyRecording& r) {
   return pb::make_tuple(m.topic, m.log_time_ns, toPython(m.message));
 }
 
-}  // namespace
+}  // namespace recording_impl
 
 void bindRecording(pb::module_& m) {
+  using namespace recording_impl;
   pb::class_<PyRecording>(m, "Recording", R"(A recording, read as a stream in log-time order.
 
     with open_recording("run.mcap") as rec:
@@ -53,6 +54,7 @@ Records that cannot be decoded are skipped and counted in stats(); reading goes 
       .def_property_readonly("path", [](const PyRecording& r) { return r.path; })
       .def_property_readonly("format", [](PyRecording& r) { return r.open().format(); }, "'mcap', 'ros2bag' or 'carmen'")
       .def("topics", [](PyRecording& r) {
+  using namespace recording_impl;
         pb::list out;
         for (const TopicInfo& t : r.open().topics()) {
           pb::dict d;

@@ -9,7 +9,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace sensors_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 pb::array_t<float> directions(const BeamSet& b) {
   const auto n = static_cast<pb::ssize_t>(b.size());
@@ -47,9 +47,10 @@ const Sensor& sensorAt(const Rig& rig, const pb::handle& key) {
   return rig.sensors[i];
 }
 
-}  // namespace
+}  // namespace sensors_impl
 
 void bindSensors(pb::module_& m) {
+  using namespace sensors_impl;
   pb::class_<BeamSet>(m, "BeamSet", "Unit beam directions of one sensor in its own frame (x forward, y left, z up) and its range limits.")
       .def(pb::init(&beamsFromArray), pb::arg("directions"), pb::arg("range_min") = 0.f, pb::arg("range_max") = 30.f,
            "From (B, 3) directions (normalised here).")

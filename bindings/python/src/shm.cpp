@@ -20,7 +20,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace shm_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 using shm::ShmError;
 using Errc = ShmError::Errc;
@@ -63,9 +63,10 @@ const char* stateName(uint32_t s) {
   }
 }
 
-}  // namespace
+}  // namespace shm_impl
 
 int channelIndex(PySegment& s, const std::string& channel) {
+  using namespace shm_impl;
   const int ch = s.get().find(channel);
   if (ch < 0) {
     std::string names;
@@ -76,6 +77,7 @@ int channelIndex(PySegment& s, const std::string& channel) {
 }
 
 std::vector<std::string> inputNames(PySegment& s) {
+  using namespace shm_impl;
   std::vector<std::string> out;
   for (int i = 0; i < s.get().channelCount(); ++i)
     if (s.get().channel(i).direction == POLYLOC_DIR_INPUT) out.push_back(channelName(s.get().channel(i)));
@@ -83,6 +85,7 @@ std::vector<std::string> inputNames(PySegment& s) {
 }
 
 void bindShm(pb::module_& parent) {
+  using namespace shm_impl;
   pb::module_ m = parent.def_submodule("_shm", R"(The shared-memory client: polylocd's segment, its input and output channels.
 
     seg = shm.Segment.attach("lab")                    # polylocd --instance lab
@@ -144,6 +147,7 @@ optional direction ('input'/'output'; default by kind), slots (16), count (beams
 width and height (depth), sensor (rig index, -1), payload_max; or daemon_channels(config).
 ready=False leaves it initialising (clients cannot attach) until ready().)")
       .def_static("unlink", [](const std::string& instance) {
+  using namespace shm_impl;
         pb::gil_scoped_release nogil;
         shm::Segment::unlink(instance);
       }, pb::arg("instance"), "Removes the name (mapped segments stay valid).")

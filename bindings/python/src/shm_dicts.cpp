@@ -13,7 +13,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace shm_dicts_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 uint32_t kindOf(const pb::handle& v) {
   if (pb::isinstance<pb::int_>(v)) return v.cast<uint32_t>();
@@ -60,9 +60,10 @@ MclStatus statusOf(const std::string& s) {
 
 template <class T> T get(const pb::dict& d, const char* key, T def) { return d.contains(key) ? d[key].cast<T>() : def; }
 
-}  // namespace
+}  // namespace shm_dicts_impl
 
 const char* kindName(uint32_t k) {
+  using namespace shm_dicts_impl;
   switch (k) {
     case POLYLOC_KIND_RANGES: return "ranges";
     case POLYLOC_KIND_DEPTH: return "depth";
@@ -79,6 +80,7 @@ const char* kindName(uint32_t k) {
 std::string channelName(const polyloc_channel_desc& d) { return std::string(d.name, strnlen(d.name, POLYLOC_NAME_LEN)); }
 
 pb::dict channelDict(const polyloc_channel_desc& d) {
+  using namespace shm_dicts_impl;
   pb::dict c;
   c["name"] = channelName(d), c["kind"] = kindName(d.kind);
   c["direction"] = d.direction == POLYLOC_DIR_INPUT ? "input" : "output";
@@ -88,6 +90,7 @@ pb::dict channelDict(const polyloc_channel_desc& d) {
 }
 
 pb::dict specDict(const shm::ChannelSpec& s) {
+  using namespace shm_dicts_impl;
   pb::dict c;
   c["name"] = s.name, c["kind"] = kindName(s.kind), c["direction"] = s.direction == POLYLOC_DIR_INPUT ? "input" : "output";
   c["count"] = s.count, c["width"] = s.width, c["height"] = s.height, c["sensor"] = s.sensor, c["slots"] = s.slot_count;
@@ -97,6 +100,7 @@ pb::dict specDict(const shm::ChannelSpec& s) {
 // Defaults: direction input for ranges, depth, odometry and command, output otherwise; slots 16,
 // count width*height for depth, sensor -1, payload_max 0 (from the kind and sizes).
 shm::ChannelSpec toSpec(const pb::handle& obj) {
+  using namespace shm_dicts_impl;
   if (!pb::isinstance<pb::dict>(obj)) raise(PyExc_TypeError, "channels: expected dicts with name and kind");
   const pb::dict d = pb::reinterpret_borrow<pb::dict>(obj);
   static const char* known[] = {"name", "kind", "direction", "slots", "count", "width", "height", "sensor", "payload_max"};
@@ -127,6 +131,7 @@ shm::ChannelSpec toSpec(const pb::handle& obj) {
 // Every dict has frame, stamp_ns and publish_ns.
 pb::dict frameDict(const shm::FrameInfo& f, const std::vector<uint8_t>& buf, const polyloc_channel_desc& c,
                    const std::vector<std::string>& inputs) {
+  using namespace shm_dicts_impl;
   pb::dict d;
   d["frame"] = f.frame, d["publish_ns"] = f.publish_ns;
   const size_t n = buf.size();
@@ -238,6 +243,7 @@ pb::dict frameDict(const shm::FrameInfo& f, const std::vector<uint8_t>& buf, con
 }
 
 polyloc_odometry odometryPayload(int64_t stamp_ns, const pb::handle& odom_T_base, const std::array<double, 3>& twist) {
+  using namespace shm_dicts_impl;
   polyloc_odometry o{};
   o.stamp_ns = stamp_ns;
   putPose(toPose(odom_T_base, "odom_T_base"), &o.x, &o.qw);
@@ -247,6 +253,7 @@ polyloc_odometry odometryPayload(int64_t stamp_ns, const pb::handle& odom_T_base
 
 polyloc_command commandPayload(int64_t stamp_ns, const std::array<double, 3>& twist, const std::string& nav_state,
                                uint32_t goal, const std::string& status) {
+  using namespace shm_dicts_impl;
   polyloc_command c{};
   c.stamp_ns = stamp_ns;
   c.vx = twist[0], c.vy = twist[1], c.wz = twist[2];
@@ -264,6 +271,7 @@ polyloc_command commandPayload(int64_t stamp_ns, const std::array<double, 3>& tw
 
 polyloc_pose posePayload(int64_t stamp_ns, const pb::handle& pose, const pb::handle& covariance, const std::string& status,
                          size_t particles, double ess, uint64_t updates, int64_t latency_ns, const pb::handle& map_odom) {
+  using namespace shm_dicts_impl;
   polyloc_pose p{};
   p.stamp_ns = stamp_ns;
   putPose(toPose(pose, "pose"), &p.x, &p.qw);
@@ -281,6 +289,7 @@ polyloc_pose posePayload(int64_t stamp_ns, const pb::handle& pose, const pb::han
 // As polylocd publishes them: confirmed first, then tentative, deleted ones (status 2) left out,
 // at most POLYLOC_MAX_TRACKS. Without status: confirmed; without velocity: 0; without position_cov: identity.
 polyloc_tracks tracksPayload(int64_t stamp_ns, const pb::dict& tracks) {
+  using namespace shm_dicts_impl;
   if (!tracks.contains("id") || !tracks.contains("position")) raise(PyExc_ValueError, "tracks: needs id and position arrays");
   const auto id = pb::array_t<uint32_t, pb::array::c_style | pb::array::forcecast>::ensure(tracks["id"]);
   if (!id || id.ndim() != 1) raise(PyExc_ValueError, "tracks['id']: expected a 1-D array of ids");
@@ -310,6 +319,7 @@ polyloc_tracks tracksPayload(int64_t stamp_ns, const pb::dict& tracks) {
 
 polyloc_health healthPayload(int64_t stamp_ns, const pb::dict& health, const std::vector<std::string>& names,
                              const std::string& segment) {
+  using namespace shm_dicts_impl;
   polyloc_health h{};
   h.stamp_ns = stamp_ns;
   h.cycles = get<uint64_t>(health, "cycles", 0), h.poses = get<uint64_t>(health, "poses", 0);

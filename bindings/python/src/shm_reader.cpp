@@ -18,7 +18,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace shm_reader_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 struct PyReader {
   SegmentPtr seg;
@@ -44,9 +44,10 @@ struct PyReader {
   }
 };
 
-}  // namespace
+}  // namespace shm_reader_impl
 
 void bindShmReader(pb::module_& m) {
+  using namespace shm_reader_impl;
   pb::class_<PyReader>(m, "Reader", R"(A reader of one channel, at its own pace: it never disturbs the writer or other readers.
 
     r = Reader(seg, "pose", start="next")    # "next": frames after now; "newest": the last one too; "oldest": the ring
@@ -56,6 +57,7 @@ void bindShmReader(pb::module_& m) {
 A reader that falls behind by more than the ring's slots skips to the newest frame and counts
 the frames lost in overruns.)")
       .def(pb::init([](SegmentPtr seg, const std::string& channel, const std::string& start) {
+  using namespace shm_reader_impl;
              shm::Reader::Start s = shm::Reader::Start::Next;
              if (start == "newest") s = shm::Reader::Start::Newest;
              else if (start == "oldest") s = shm::Reader::Start::Oldest;

@@ -23,7 +23,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace shm_writer_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 struct PyWriter {
   SegmentPtr seg;
@@ -59,9 +59,10 @@ struct PyWriter {
   template <class T> void writeStruct(const T& v, int64_t stamp_ns) { write({{&v, sizeof v}}, stamp_ns); }
 };
 
-}  // namespace
+}  // namespace shm_writer_impl
 
 void bindShmWriter(pb::module_& m) {
+  using namespace shm_writer_impl;
   pb::class_<PyWriter>(m, "Writer", R"(The writer of one channel (claims its writer role; released by close() or on deletion).
 
     w = Writer(seg, "scan/s300_front_left")
@@ -71,6 +72,7 @@ One write_* per kind; a frame that does not fit the channel is a ValueError. wri
 any payload (for frames polylocd must reject). BusyError when a live process holds the role,
 unless take_over.)")
       .def(pb::init([](SegmentPtr seg, const std::string& channel, bool take_over) {
+  using namespace shm_writer_impl;
              auto w = std::make_unique<PyWriter>();
              w->seg = seg;
              w->name = channel;

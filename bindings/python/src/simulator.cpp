@@ -17,7 +17,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace simulator_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 template <class T>
 pb::array_t<T> frameView(pb::object self, const std::vector<T> SimFrame::*field) {
@@ -70,9 +70,10 @@ pb::dict runSimulation(PySimulator& s, const std::string& out, const pb::object&
   return d;
 }
 
-}  // namespace
+}  // namespace simulator_impl
 
 void bindSimulator(pb::module_& m) {
+  using namespace simulator_impl;
   pb::class_<Scenario>(m, "Scenario", "A simulated run (maps/scenarios/*.yaml): config (map, robot, rig), route, people, noise, seed.")
       .def_readonly("file", &Scenario::file)
       .def_readwrite("config", &Scenario::config)
@@ -110,6 +111,7 @@ artefacts: ARTEFACT_BITS per beam; label: label id in Simulator.map of the exact
       .def_property_readonly("artefacts", [](pb::object self) { return frameView(self, &SimFrame::artefacts); })
       .def_property_readonly("label", [](pb::object self) { return frameView(self, &SimFrame::label); })
       .def("__repr__", [](const SimFrame& f) {
+  using namespace simulator_impl;
         return fmt::format("<polyloc.SimFrame sensor {} #{} t={:.3f} s, {} beams>", f.sensor, f.index, f.t, f.measured.size());
       });
 
@@ -129,6 +131,7 @@ artefacts: ARTEFACT_BITS per beam; label: label id in Simulator.map of the exact
 Callbacks run on the calling thread, in time order within each simulated second (ticks of the
 second first, then its frames); `polyloc.simulate` collects both into one time-ordered run.)")
       .def(pb::init([](const Scenario& s) {
+  using namespace simulator_impl;
              auto p = std::make_unique<PySimulator>();
              pb::gil_scoped_release nogil;
              p->sim = std::make_unique<Simulator>(s, loadScenarioMap(s));

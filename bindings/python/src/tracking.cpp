@@ -12,7 +12,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace tracking_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 struct PyTracker {
   std::unique_ptr<PeopleTracker> tracker;
@@ -40,9 +40,10 @@ pb::dict trackArrays(const Tracks& t) {
   return d;
 }
 
-}  // namespace
+}  // namespace tracking_impl
 
 void bindTracking(pb::module_& m) {
+  using namespace tracking_impl;
   pb::class_<TrackingConfig>(m, "TrackingConfig", "People tracking settings (the tracking: section; docs/tracking.md).")
       .def(pb::init<>())
       .def_readwrite("sensors", &TrackingConfig::sensors, "level planar scanners by name; empty: all of them")

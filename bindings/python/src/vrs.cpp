@@ -15,7 +15,7 @@
 
 namespace polyloc::py {
 
-namespace {
+namespace vrs_impl {  // named, not anonymous: the module is compiled in batches (unity build)
 
 struct PyVrs {
   std::shared_ptr<const Mesh> map;  // danger-zone labels; the scanner keeps a pointer
@@ -30,9 +30,10 @@ pb::array_t<T> scanView(pb::object self, const std::vector<T> VirtualScan::*fiel
   return view<T>(v.data(), {static_cast<pb::ssize_t>(v.size())}, self);
 }
 
-}  // namespace
+}  // namespace vrs_impl
 
 void bindVrs(pb::module_& m) {
+  using namespace vrs_impl;
   pb::class_<VrsConfig>(m, "VrsConfig", "Virtual range scan settings (the vrs: section; docs/vrs.md). Angles in radians.")
       .def(pb::init<>())
       .def_readwrite("angle_min", &VrsConfig::angle_min)

@@ -17,6 +17,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <new>
 #include <vector>
 
 namespace polyloc {
@@ -78,8 +81,20 @@ class ScanMapper {
   // hold cells [ox_, ox_ + w_) x [oy_, oy_ + h_), row-major from the bottom row.
   int64_t ox_ = 0, oy_ = 0;
   size_t w_ = 0, h_ = 0;
-  std::vector<float> logodds_;
-  std::vector<uint32_t> last_scan_;  // 2 x (scan number + 1), +1 if that scan hit it; 0: never observed
+  // calloc'd: the system hands out large blocks as zero pages on demand, so the cells never
+  // observed (most of a long corridor's bounding box) cost no memory and no clearing.
+  template <class T> struct ZeroBuffer {
+    struct Free { void operator()(T* p) const { std::free(p); } };
+    std::unique_ptr<T, Free> p;
+    ZeroBuffer() = default;
+    explicit ZeroBuffer(size_t n) : p(static_cast<T*>(std::calloc(n ? n : 1, sizeof(T)))) {
+      if (!p) throw std::bad_alloc();
+    }
+    T* data() const { return p.get(); }
+    T& operator[](size_t i) const { return p.get()[i]; }
+  };
+  ZeroBuffer<float> logodds_;
+  ZeroBuffer<uint32_t> last_scan_;  // 2 x (scan number + 1), +1 if that scan hit it; 0: never observed
   struct Beam { int64_t i, j; bool hit; };  // end cell of a beam of the current scan
   std::vector<Beam> beams_;          // scratch of add(), kept to not allocate per scan
   std::vector<size_t> touched_;      // cells the current scan updates
