@@ -8,8 +8,6 @@
 # polyloc_gtest_suites(TARGET TIMEOUT): tests named after the suites (parameterised suites as
 # gtest lists them, e.g. Backends/RaycastConformance), each with TIMEOUT seconds.
 
-set(_POLYLOC_GTEST_SUITES_DIR ${CMAKE_CURRENT_LIST_DIR})
-
 function(polyloc_gtest_suites target timeout)
   set(_script ${CMAKE_CURRENT_BINARY_DIR}/${target}_suites.cmake)
   file(GENERATE OUTPUT ${_script} CONTENT

@@ -53,12 +53,9 @@ bool ScanMapper::reserve(int64_t i0, int64_t j0, int64_t i1, int64_t j1) {
   const bool have = w_ > 0;
   const int64_t mi0 = !have || i0 < ox_ ? gx : 0, mj0 = !have || j0 < oy_ ? gy : 0;
   const int64_t mi1 = !have || i1 >= ox_ + int64_t(w_) ? gx : 0, mj1 = !have || j1 >= oy_ + int64_t(h_) ? gy : 0;
-  int64_t ni0 = ei0, nj0 = ej0, ni1 = ei1, nj1 = ej1;
-  for (int shift = 0; shift < 40; ++shift)
-    if (fits(ei0 - (mi0 >> shift), ej0 - (mj0 >> shift), ei1 + (mi1 >> shift), ej1 + (mj1 >> shift))) {
-      ni0 = ei0 - (mi0 >> shift), nj0 = ej0 - (mj0 >> shift), ni1 = ei1 + (mi1 >> shift), nj1 = ej1 + (mj1 >> shift);
-      break;
-    }
+  int shift = 0;  // the exact box fits (above), so a shift that leaves no margin always does
+  while (!fits(ei0 - (mi0 >> shift), ej0 - (mj0 >> shift), ei1 + (mi1 >> shift), ej1 + (mj1 >> shift))) ++shift;
+  const int64_t ni0 = ei0 - (mi0 >> shift), nj0 = ej0 - (mj0 >> shift), ni1 = ei1 + (mi1 >> shift), nj1 = ej1 + (mj1 >> shift);
   const size_t nw = size_t(span(ni0, ni1)), nh = size_t(span(nj0, nj1));
   ZeroBuffer<float> lo(nw * nh);
   ZeroBuffer<uint32_t> last(nw * nh);
