@@ -35,7 +35,6 @@ struct Daemon::Impl final : PipelineSink {
   std::vector<double> cycle_ms;          // ring of the last 1000 cycles
   size_t cycle_next = 0;
   uint64_t cycles = 0;
-  int64_t current_publish_ns = 0;        // of the input frame being processed (latency)
   uint64_t jumps = 0;                    // of clock: source
   PipelineCounters earlier;              // outputs of the pipelines a time jump replaced
   int64_t last_health_ns = 0;
@@ -63,7 +62,7 @@ struct Daemon::Impl final : PipelineSink {
     eo.threads = d.cfg_.daemon.threads;
     caster = std::make_unique<EmbreeCaster>(map, eo);
     weigh = makeWeighingCaster(map, pc.rig, pc.mcl, d.cfg_.daemon.threads);
-    pipe = std::make_unique<Pipeline>(pc, map, *caster, weigh.get());
+    pipe = makePipeline();
     gate = std::make_unique<InputGate>(seg, d.table_, d.cfg_.daemon, int(pipe->triggerSensor()),
                                        [this](int64_t from, int64_t to) { timeJumped(from, to); });
     w_pose = std::make_unique<shm::Writer>(seg, d.table_.pose, true);
@@ -71,6 +70,15 @@ struct Daemon::Impl final : PipelineSink {
     w_tracks = std::make_unique<shm::Writer>(seg, d.table_.tracks, true);
     w_health = std::make_unique<shm::Writer>(seg, d.table_.health, true);
     startLive();
+  }
+
+  // global_search: beside puts the localiser on a thread of its own (pipeline.hpp).
+  std::unique_ptr<Pipeline> makePipeline() const {
+    PipelineOptions o;
+    o.search_beside = d.cfg_.daemon.search_beside;
+    o.threads = d.cfg_.daemon.threads;
+    o.keep_particles = d.cfg_.daemon.live.port != 0;
+    return std::make_unique<Pipeline>(d.cfg_.polyloc, map, *caster, weigh.get(), o);
   }
 
   // The live view is for people watching: a port in use must not keep the robot from localising.
@@ -101,10 +109,11 @@ struct Daemon::Impl final : PipelineSink {
   // --- outputs (PipelineSink) ---
   void onPose(const MclEstimate& e, const Pose& map_T_odom) override {
     logSearch(e);
-    const polyloc_pose p = posePayload(e, map_T_odom, clockNs(CLOCK_MONOTONIC) - current_publish_ns);
+    // From the publication of the frame that ended the round (a search's rounds end later).
+    const polyloc_pose p = posePayload(e, map_T_odom, clockNs(CLOCK_MONOTONIC) - int64_t(pipe->poseTag()));
     w_pose->write(&p, sizeof p, e.stamp_ns);
     d.live_->update([&](LiveState::Snapshot& s) { s.pose = p; });
-    if (live) live->pose(e, map_T_odom, &pipe->localizer().particles());
+    if (live) live->pose(e, map_T_odom, pipe->particles());
   }
   void onVrs(const VirtualScan& v) override {
     const bool enabled = d.live_->collisionAvoidance();
@@ -139,7 +148,7 @@ struct Daemon::Impl final : PipelineSink {
                  "(jump {}; a recording restarted, or a frame stamped wrong was the first)",
                  std::abs(double(static_cast<__int128>(to) - from)) * 1e-9, to > from ? "after" : "before", ++jumps);
     earlier = counters();  // health's counters never go back
-    pipe = std::make_unique<Pipeline>(d.cfg_.polyloc, map, *caster, weigh.get());
+    pipe = makePipeline();
   }
 
   void initialise(int64_t stamp) {
@@ -173,7 +182,6 @@ struct Daemon::Impl final : PipelineSink {
 
   void dispatch(const InputGate::Frame& t) {
     const polyloc_channel_desc& c = desc(t.input);
-    current_publish_ns = t.publish_ns;
     if (!pipe->initialised()) initialise(t.stamp_ns);
     takeRequests(t.stamp_ns);
     bool ok = true;
@@ -186,7 +194,7 @@ struct Daemon::Impl final : PipelineSink {
       }
       case POLYLOC_KIND_RANGES: {
         const float* r = reinterpret_cast<const float*>(t.payload.data() + offsetof(polyloc_ranges, ranges));
-        ok = pipe->addRanges(size_t(c.sensor), t.stamp_ns, {r, c.count}, *this);
+        ok = pipe->addRanges(size_t(c.sensor), t.stamp_ns, {r, c.count}, *this, uint64_t(t.publish_ns));
         if (ok && std::holds_alternative<PlanarScannerSpec>(d.cfg_.polyloc.rig.sensors[size_t(c.sensor)].spec))
           keepScan(size_t(c.sensor), t.stamp_ns, {r, c.count});
         if (ok && live) live->scan(size_t(c.sensor), t.stamp_ns, {r, c.count});
@@ -196,7 +204,8 @@ struct Daemon::Impl final : PipelineSink {
         polyloc_depth h;
         std::memcpy(&h, t.payload.data(), sizeof h);
         const float* depth = reinterpret_cast<const float*>(t.payload.data() + offsetof(polyloc_depth, data));
-        ok = pipe->addDepth(size_t(c.sensor), t.stamp_ns, depth, h.has_amplitude ? depth + size_t(c.width) * c.height : nullptr, *this);
+        ok = pipe->addDepth(size_t(c.sensor), t.stamp_ns, depth, h.has_amplitude ? depth + size_t(c.width) * c.height : nullptr,
+                            *this, uint64_t(t.publish_ns));
         if (ok && live && pipe->vrsEnabled()) live->depth(size_t(c.sensor), t.stamp_ns, pipe->lastDepth());
         break;
       }
@@ -240,10 +249,10 @@ struct Daemon::Impl final : PipelineSink {
       if (health[i].silent) h.flags |= 1u;
     }
     if (pipe->initialised()) {
-      const MclEstimate e = pipe->localizer().estimate();
+      const MclEstimate& e = pipe->estimate();
       if (e.status == MclStatus::Lost) h.flags |= 2u;
       if (e.unfit) h.flags |= 4u;
-      if (pipe->localizer().searching()) h.flags |= 8u;
+      if (pipe->searching()) h.flags |= 8u;
       for (size_t k = 0; k < e.sensor_fit.size() && k < d.table_.sensor_channel.size(); ++k) {
         const auto it = std::find(d.table_.inputs.begin(), d.table_.inputs.end(), d.table_.sensor_channel[k]);
         if (it != d.table_.inputs.end() && e.sensor_fit[k] >= 0)
@@ -293,6 +302,7 @@ void Daemon::run(const std::atomic<bool>& stop) {
     const uint32_t seen = __atomic_load_n(&m.seg.header().doorbell, __ATOMIC_ACQUIRE);
     const bool read = m.gate->read();
     if (!m.gate->ready().empty()) m.cycle();
+    m.pipe->poll(m);  // a search's rounds that ended while no frame came
     if (!read) {
       m.takeRequests(m.gate->now());
       // 20 ms at most: health and silence checks go on, and held frames go when their wait ends.
@@ -306,7 +316,11 @@ void Daemon::run(const std::atomic<bool>& stop) {
   m.seg.stop();
   m.live.reset();  // closes the viewers' connections
   const PipelineCounters pc = m.counters();
-  spdlog::info("stopped after {} cycles: {} poses, {} VRS, {} track sets", m.cycles, pc.poses, pc.vrs, pc.tracks);
+  const LocalizerWorker::Counters wc = m.pipe->workerCounters();
+  spdlog::info("stopped after {} cycles: {} poses, {} VRS, {} track sets{}", m.cycles, pc.poses, pc.vrs, pc.tracks,
+               wc.dropped + wc.cancelled ? fmt::format("; frames queued behind a global search: {} dropped (queue full), {} "
+                                                       "dropped by a new start", wc.dropped, wc.cancelled)
+                                         : "");
 }
 
 }  // namespace polyloc::pipeline

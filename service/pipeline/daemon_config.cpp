@@ -32,6 +32,7 @@ DaemonConfig parseDaemonConfig(ConfigMap m) {
   c.clock_agree = m.getCount("clock_agree", c.clock_agree, 1, 1000);
   c.input_timeout_ns = ns("input_timeout", c.input_timeout_ns, 0.01, 3600);
   c.odom_wait_ns = ns("odom_wait", c.odom_wait_ns, 0, 10);
+  c.search_beside = m.getChoice("global_search", "beside", {"beside", "inline"}) == "beside";
   c.health_rate_hz = m.getDouble("health_rate", c.health_rate_hz, 0.1, 1000);
   if (m.has("init")) {
     const ConfigValue v = m.value("init");

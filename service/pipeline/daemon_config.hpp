@@ -12,6 +12,7 @@
 //     clock_agree: 5         # source: refused frames in a row that move the clock (a jump)
 //     input_timeout: 1.0     # s: an input silent this long is reported (health, log)
 //     odom_wait: 0.05        # s a sensor frame waits for the odometry covering its stamp (0: none)
+//     global_search: beside  # beside: on a thread of its own; inline: in the input thread
 //     health_rate: 10        # Hz
 //     init: global           # global | ground_truth-free start pose {x, y, z, yaw, sigma_xy, sigma_yaw}
 //     control: {enabled: true, bind: 127.0.0.1, port: 7410}
@@ -51,6 +52,10 @@ struct DaemonConfig {
   size_t clock_agree = 5;
   int64_t input_timeout_ns = 1'000'000'000;
   int64_t odom_wait_ns = 50'000'000;  // then the motion is extrapolated, and counted (extrapolated)
+  // A global search on a thread of its own, so that VRS, tracks and health keep their rate while
+  // it works (pipeline.hpp); false: inline, every output waits for it (byte-identical VRS and
+  // tracks under any timing).
+  bool search_beside = true;
   double health_rate_hz = 10;
   std::optional<InitPose> init;  // nullopt: global localisation
   ControlConfig control;
