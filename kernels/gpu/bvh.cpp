@@ -25,7 +25,7 @@ struct BuildNode {
 };
 
 void* createNode(RTCThreadLocalAllocator alloc, unsigned, void*) {
-  auto* n = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16));
+  auto* n = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), alignof(BuildNode)));
   *n = BuildNode{false, {}, {nullptr, nullptr}, nullptr, 0, 0};
   return n;
 }
@@ -41,8 +41,10 @@ void setBounds(void* node, const RTCBounds** bounds, unsigned count, void*) {
 }
 
 void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void*) {
-  auto* n = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16));
-  auto* copy = static_cast<RTCBuildPrimitive*>(rtcThreadLocalAlloc(alloc, count * sizeof(RTCBuildPrimitive), 16));
+  auto* n = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), alignof(BuildNode)));
+  // RTCBuildPrimitive is RTC_ALIGN(32): a 16-aligned copy is undefined behaviour (UBSan found it).
+  auto* copy = static_cast<RTCBuildPrimitive*>(
+      rtcThreadLocalAlloc(alloc, count * sizeof(RTCBuildPrimitive), alignof(RTCBuildPrimitive)));
   std::copy(prims, prims + count, copy);
   *n = BuildNode{true, {}, {nullptr, nullptr}, copy, unsigned(count), 0};
   return n;

@@ -174,7 +174,8 @@ std::string PlayFeed::statusLine(double t_s, double span_s) const {
   }
   if (health_) {
     const auto [dropped, rejected] = lostFrames(*health_);
-    s += fmt::format("  dropped {} rejected {}{}", dropped, rejected, health_->flags & 1 ? "  INPUT SILENT" : "");
+    s += fmt::format("  dropped {} rejected {}{}{}", dropped, rejected, health_->flags & 1 ? "  INPUT SILENT" : "",
+                     health_->flags & 8 ? "  GLOBAL SEARCH" : "");
   }
   return s;
 }

