@@ -92,6 +92,14 @@ CoincidentFaces::CoincidentFaces(const Mesh& mesh, float tolerance) {
   cell_parts_.resize(cell_first_.back());
   std::vector<uint32_t> fill(cell_first_.begin(), cell_first_.end() - 1);
   for (uint32_t k = 0; k < parts_.size(); ++k) forCells(parts_[k].box, [&](size_t c) { cell_parts_[fill[c]++] = k; });
+  // Each cell's parts by triangle, their triangles beside them: covers() finds a triangle's parts
+  // by a binary search over 4-byte keys (a floor cell can list a hundred parts of other faces).
+  cell_tris_.resize(cell_parts_.size());
+  for (size_t c = 0; c + 1 < cell_first_.size(); ++c) {
+    const auto first = cell_parts_.begin() + cell_first_[c], last = cell_parts_.begin() + cell_first_[c + 1];
+    std::sort(first, last, [&](uint32_t a, uint32_t b) { return std::pair(parts_[a].tri, a) < std::pair(parts_[b].tri, b); });
+  }
+  for (size_t k = 0; k < cell_parts_.size(); ++k) cell_tris_[k] = parts_[cell_parts_[k]].tri;
 }
 
 bool CoincidentFaces::covers(uint32_t tri, const Eigen::Vector3f& p, float margin) const {
@@ -99,10 +107,10 @@ bool CoincidentFaces::covers(uint32_t tri, const Eigen::Vector3f& p, float margi
   if (!has(tri) || !bounds_.contains(p)) return false;
   const Eigen::Vector3i c = ((p - bounds_.min()) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1);
   const size_t cell = size_t((c.z() * dims_.y() + c.y()) * dims_.x() + c.x());
-  for (uint32_t k = cell_first_[cell]; k < cell_first_[cell + 1]; ++k) {
-    const Part& q = parts_[cell_parts_[k]];
-    if (q.tri == tri && (p.array() >= q.box.min().array() - margin).all() && (p.array() <= q.box.max().array() + margin).all())
-      return true;
+  const auto first = cell_tris_.begin() + cell_first_[cell], last = cell_tris_.begin() + cell_first_[cell + 1];
+  for (auto k = std::lower_bound(first, last, tri); k != last && *k == tri; ++k) {
+    const Part& q = parts_[cell_parts_[size_t(k - cell_tris_.begin())]];
+    if ((p.array() >= q.box.min().array() - margin).all() && (p.array() <= q.box.max().array() + margin).all()) return true;
   }
   return false;
 }

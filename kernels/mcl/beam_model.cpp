@@ -144,14 +144,21 @@ size_t BeamSensorModel::weighSelected(const ParticleSet& ps, const SensorFrame& 
     for (size_t p = 0; p < P; ++p) loglik[p] += m.log_scale * sums_[p];
     return B;
   }
-  hits_.resize(P * B);
-  HitBuffers out;
-  out.range = hits_.data();
-  caster_.castScans(poses_, beams_, out, window);
-  // Per particle, a sequential sum over its beams: the same for any split over threads.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, P, 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t p = r.begin(); p < r.end(); ++p) loglik[p] += m.log_scale * scoreHits(hits_.data() + p * B, B, scoring);
-  });
+  // The particles in blocks of at most kMaxHits rays: a global round of 10^7 particles x 1,000
+  // beams would otherwise keep 40 GB of ranges. Per particle, a sequential sum over its beams:
+  // the same for any split over threads or blocks.
+  const size_t block = std::max<size_t>(1, kMaxHits / std::max<size_t>(B, 1));
+  hits_.resize(std::min(P, block) * B);
+  for (size_t first = 0; first < P; first += block) {
+    const size_t n = std::min(block, P - first);
+    HitBuffers out;
+    out.range = hits_.data();
+    caster_.castScans(std::span<const Pose>(poses_).subspan(first, n), beams_, out, window);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t p = r.begin(); p < r.end(); ++p)
+        loglik[first + p] += m.log_scale * scoreHits(hits_.data() + p * B, B, scoring);
+    });
+  }
   return B;
 }
 

@@ -16,6 +16,9 @@ size_t beamsPerScan(ConfigMap& m, size_t current) { return m.getCount("beams_per
 
 }  // namespace
 
+// A screening round scores every position at every heading (12 bytes a pair: 120 MB at most).
+constexpr size_t kMaxPairs = 10'000'000;
+
 MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults) {
   MclConfig c = defaults;
   constexpr double kBig = 1e9;
@@ -219,8 +222,6 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
       sc.keep = sm.getCount("keep", sc.keep, 0, 10'000);
       sc.positions = sm.getCount("positions", sc.positions, 1, 10'000'000);
       sc.headings = sm.getCount("headings", sc.headings, 1, 3600);
-      // The screen scores every position at every heading each round (12 bytes a pair: 120 MB).
-      constexpr size_t kMaxPairs = 10'000'000;
       if (sc.positions * sc.headings > kMaxPairs)
         sm.fail("positions x headings = " + std::to_string(sc.positions * sc.headings) + " exceeds " +
                 std::to_string(kMaxPairs) + " (the memory budget of one screening round, 12 bytes a pair)");
@@ -230,6 +231,18 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
       sm.finish();
     }
     h.finish();
+  }
+  {  // Local recovery screens a (2n + 1)^2 lattice, n = max_radius / step, at up to screen.headings.
+    const double n = std::ceil(c.recovery_max_radius / c.recovery_step);
+    const double pairs = (2 * n + 1) * (2 * n + 1) * double(c.hypotheses.screen.headings);
+    if (pairs > double(kMaxPairs)) {
+      const std::string why = "recovery_max_radius / recovery_step gives a lattice of " + std::to_string(size_t((2 * n + 1) * (2 * n + 1))) +
+                              " places x " + std::to_string(c.hypotheses.screen.headings) + " headings, beyond " +
+                              std::to_string(kMaxPairs) + " (the memory budget of one screening round)";
+      if (m.has("recovery_step")) m.value("recovery_step").fail(why);
+      if (m.has("recovery_max_radius")) m.value("recovery_max_radius").fail(why);
+      m.fail(why);
+    }
   }
   if (m.has("beam")) {
     ConfigMap b = m.map("beam");

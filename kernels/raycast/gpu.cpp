@@ -59,6 +59,7 @@ struct GpuCaster::Impl {
   std::vector<float> terms_host, tables_host, sums_host;  // scoreScans' staging
   std::vector<uint32_t> readback;
   std::vector<uint8_t> bad;
+  std::vector<float> fallback_hits;  // scoreScans on Embree after a fallback
 
   void ensure(std::unique_ptr<StorageBuffer>& b, size_t bytes) {
     if (b && b->size() >= bytes) return;
@@ -234,6 +235,7 @@ bool GpuCaster::fellBack() const {
 }
 
 size_t GpuCaster::memoryBytes() const {
+  std::lock_guard<std::mutex> lock(impl_->mu);  // a call on another thread may be growing the buffers
   const Impl& m = *impl_;
   size_t gpu = 0;
   for (const auto* b : {&m.nodes, &m.verts, &m.ids, &m.in0, &m.in1, &m.hits, &m.terms, &m.tables, &m.sums})
@@ -397,7 +399,8 @@ void GpuCaster::scoreScans(std::span<const Pose> poses, const BeamSet& beams, co
       },
       [&](EmbreeCaster& e) {
         e.options = opt;
-        std::vector<float> h(poses.size() * nb);
+        std::vector<float>& h = impl_->fallback_hits;  // under run()'s lock
+        h.resize(poses.size() * nb);
         e.castScans(poses, beams, {h.data()}, window);
         for (size_t p = 0; p < poses.size(); ++p) sums[p] = scoreHits(h.data() + p * nb, nb, s);
       });

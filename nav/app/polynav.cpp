@@ -7,6 +7,7 @@
 
 #include <polynav/controller.hpp>
 #include <polynav/nearness_diagram.hpp>
+#include <polynav/polygon.hpp>
 #include <polynav/vfh.hpp>
 
 #include <CLI/CLI.hpp>
@@ -49,7 +50,8 @@ polynav::Polygon parseFootprint(const std::string& s) {
       die("--footprint: '" + pt + "' is not x,y");
     out.emplace_back(x, y);
   }
-  if (out.size() < 3) die("--footprint needs at least 3 points");
+  // A footprint with no area (points repeated, on a line) would make every pose look clear.
+  if (const std::string p = polynav::polygonProblem(out); !p.empty()) die("--footprint '" + s + "': the polygon " + p);
   return out;
 }
 
@@ -149,12 +151,21 @@ int main(int argc, char** argv) {
     if (std::chrono::steady_clock::now() > deadline || g_stop) die(polyloc_last_error());
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  const int vrs_ch = polyloc_channel(c, "vrs"), cmd_ch = polyloc_channel(c, "cmd_vel"), odom_ch = polyloc_channel(c, "odom");
-  if (vrs_ch < 0 || cmd_ch < 0) die("polylocd '" + a.shm + "' has no vrs or cmd_vel channel (an older polylocd?)");
-  if (polyloc_claim_writer(c, cmd_ch, 0) != POLYLOC_OK) die(polyloc_last_error());
-  polyloc_channel_desc vd;
-  polyloc_channel_info(c, vrs_ch, &vd);
-  std::vector<uint8_t> buf(vd.payload_max);
+  // The channels by name, the command writer claimed: at the start and after each restart of
+  // polylocd (a new segment may list its channels in another order, docs/interface.md).
+  int vrs_ch = -1, cmd_ch = -1, odom_ch = -1;
+  std::vector<uint8_t> buf;
+  auto channels = [&]() -> std::string {
+    vrs_ch = polyloc_channel(c, "vrs"), cmd_ch = polyloc_channel(c, "cmd_vel"), odom_ch = polyloc_channel(c, "odom");
+    if (vrs_ch < 0 || cmd_ch < 0) return "polylocd '" + a.shm + "' has no vrs or cmd_vel channel (an older polylocd?)";
+    if (polyloc_claim_writer(c, cmd_ch, 0) != POLYLOC_OK) return polyloc_last_error();
+    polyloc_channel_desc vd;
+    polyloc_channel_info(c, vrs_ch, &vd);
+    buf.resize(vd.payload_max);
+    return "";
+  };
+  if (const std::string e = channels(); !e.empty()) die(e);
+  bool ready = true;  // the channels of the segment attached are known and cmd_vel is ours
 
   struct Event { size_t goal; int state; double t; std::string status; std::string phase; };
   std::vector<Event> events;
@@ -169,11 +180,21 @@ int main(int argc, char** argv) {
   const bool tty = isatty(fileno(stderr));
   auto last_print = std::chrono::steady_clock::now();
   while (!g_stop) {
-    const int w = polyloc_wait(c, vrs_ch, 200'000'000);
-    if (w == POLYLOC_ERR_STALE || polyloc_stale(c) == 1) {
+    if (polyloc_stale(c) == 1) {
+      ready = false;
       if (polyloc_reattach(c) != POLYLOC_OK) std::this_thread::sleep_for(std::chrono::milliseconds(100));
       continue;
     }
+    if (!ready) {
+      const std::string e = channels();
+      if (!(ready = e.empty())) {
+        std::fprintf(stderr, "polynav: after polylocd's restart: %s\n", e.c_str());
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        continue;
+      }
+    }
+    const int w = polyloc_wait(c, vrs_ch, 200'000'000);
+    if (w == POLYLOC_ERR_STALE) continue;  // the next turn re-attaches
     if (w != POLYLOC_OK) continue;
     polyloc_frame_info info;
     if (polyloc_read_next(c, vrs_ch, buf.data(), uint32_t(buf.size()), &info) != POLYLOC_OK) continue;

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <set>
+#include <string>
 
 namespace polynav {
 
@@ -29,6 +31,12 @@ LoadedGrid loadNavGrid(const std::string& yaml_path) {
   } catch (const YAML::Exception& e) {
     fail(yaml_path, e.what());
   }
+  if (!y.IsMap()) fail(yaml_path, "expected a mapping (image, resolution, origin, ...)");
+  // yaml-cpp keeps one of two equal keys silently: a repeated key is an error, as in polyloc's configs.
+  std::set<std::string> keys;
+  for (auto it = y.begin(); it != y.end(); ++it)
+    if (it->first.IsScalar() && !keys.insert(it->first.Scalar()).second)
+      fail(yaml_path, "line " + std::to_string(it->first.Mark().line + 1) + ": key '" + it->first.Scalar() + "' given twice");
   auto need = [&](const char* key) {
     if (!y[key]) fail(yaml_path, std::string("missing key '") + key + "'");
     return y[key];

@@ -4,6 +4,7 @@
 
 #include "zones_detail.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -145,8 +146,18 @@ std::string zones_detail::pt(const Vector2d& p) {
   return s.str();
 }
 
-std::string zones_detail::goalInDanger(const Zones& z, const GoalSpot& g) {
+std::string zones_detail::goalProblem(const Zones& z, const GoalSpot& g) {
   const Vector2d p = g.pose.head<2>(), a = approachPose(g).head<2>();
+  // Within the rooms' and corridors' box grown by 10 m (the margin geometry/domain.hpp gives the
+  // map box): a goal at 1e300 m is a typo, not a place a plan could reach.
+  Eigen::AlignedBox2d extent;
+  for (const Room& r : z.rooms)
+    for (const Vector2d& q : r.polygon) extent.extend(q);
+  for (const Corridor& c : z.corridors)
+    for (const Vector2d& q : c.polygon) extent.extend(q);
+  constexpr double kMargin = 10.0;
+  if (!extent.isEmpty() && (p.array() < extent.min().array() - kMargin || p.array() > extent.max().array() + kMargin).any())
+    return "the goal " + pt(p) + " lies more than 10 m outside the rooms and corridors";
   for (const DangerZone& d : z.danger) {
     if (pointInPolygon(d.polygon, p)) return "the goal " + pt(p) + " lies in danger zone '" + d.name + "'";
     if (pointInPolygon(d.polygon, a)) return "the approach pose " + pt(a) + " lies in danger zone '" + d.name + "'";
@@ -189,8 +200,8 @@ void Zones::validate() const {
     const GoalSpot& g = goals[i];
     check("goals", i, g.name, finite(g.pose) ? "" : "pose is not finite");
     check("goals", i, g.name,
-          g.approach >= 0 && std::isfinite(g.approach) ? "" : "approach must be >= 0 and finite, got " + num(g.approach));
-    check("goals", i, g.name, goalInDanger(*this, g));
+          g.approach >= 0 && g.approach <= kMaxApproach ? "" : "approach must be in [0, 10] m, got " + num(g.approach));
+    check("goals", i, g.name, goalProblem(*this, g));
   }
 }
 

@@ -38,9 +38,11 @@ inline Box bounds(const Polygon& poly) {
 std::string num(double v);
 std::string pt(const Vector2d& p);
 
-// What is wrong with a goal's position ("" if nothing): the goal or its approach pose in a danger
-// zone. For Zones::validate and for the loader, which checks each goal as it reads it.
-std::string goalInDanger(const Zones& z, const GoalSpot& g);
+// What is wrong with a goal's position ("" if nothing): the goal more than 10 m outside the rooms
+// and corridors, or it or its approach pose in a danger zone. For Zones::validate and for the
+// loader, which checks each goal as it reads it.
+std::string goalProblem(const Zones& z, const GoalSpot& g);
+constexpr double kMaxApproach = 10.0;  // m: GoalSpot::approach at most
 
 }  // namespace zones_detail
 }  // namespace polynav

@@ -256,10 +256,11 @@ Zones loadZones(const std::string& yaml_path) {
                 wrapAngle(l.angleDeg(p[2], key + ".pose[2]"))};
       if (Loader::given(n, "approach")) {
         g.approach = l.number(n["approach"], key + ".approach");
-        if (!(g.approach >= 0)) l.fail(n["approach"], key + ".approach", "must be >= 0, got " + num(g.approach));
+        if (!(g.approach >= 0 && g.approach <= kMaxApproach))
+          l.fail(n["approach"], key + ".approach", "must be in [0, 10] m, got " + num(g.approach));
       }
-      // The danger section is read before the goals, wherever it stands in the file.
-      if (const std::string d = goalInDanger(z, g); !d.empty()) l.fail(p, key + ".pose", d);
+      // Rooms, corridors and danger are read before the goals, wherever they stand in the file.
+      if (const std::string d = goalProblem(z, g); !d.empty()) l.fail(p, key + ".pose", d);
       z.goals.push_back(std::move(g));
     }
   }

@@ -19,7 +19,7 @@ DaemonConfig parseDaemonConfig(ConfigMap m) {
         v.fail("'" + c.instance + "': letters, digits, '_', '-', '.' only");
     if (c.instance.empty() || c.instance.size() > 24) v.fail("1 to 24 characters");
   }
-  c.threads = static_cast<int>(m.getCount("threads", 0, 0, 1024));
+  c.threads = static_cast<int>(m.getCount("threads", 0, 0, 4096));
   c.slots = static_cast<uint32_t>(m.getCount("slots", c.slots, 2, 4096));
   c.source_clock = m.getChoice("clock", "wall", {"wall", "source"}) == "source";
   auto ns = [&](const char* key, int64_t def, double lo, double hi) {

@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
   app.add_option("--init", init, "Start pose x,y,yaw or x,y,z,yaw (m, deg; default: polylocd.init, else global localisation)");
   app.add_flag("--global", global, "Start with global localisation, whatever the config says");
   app.add_option("--threads", threads, "TBB threads for the kernels (0: all cores)")->check(polyloc::cli::finiteRange(0, 4096));
-  app.add_option("--control-port", port, "TCP control port (0: any free one; default: polylocd.control.port)");
+  app.add_option("--control-port", port, "TCP control port (0: any free one; default: polylocd.control.port)")
+      ->check(CLI::Range(0, 65535));
   app.add_option("--live-port", live_port, "Live view port: Foxglove WebSocket and the page (0: off; default: polylocd.live.port)")
       ->check(CLI::Range(0, 65535));
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off");

@@ -7,7 +7,8 @@
 #  - the same missions again on one polylocd thread: identical, decision for decision;
 #  - play --drive with polylocd and polynav started by hand: the robot moves on the commands,
 #    the summary counts them;
-#  - errors: --drive without a scenario, polynav with an unknown goal or without polylocd.
+#  - errors: --drive without a scenario, polynav with an unknown goal, without polylocd, with a
+#    footprint of no area.
 set -Eeuo pipefail
 trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 POLYLOC=$1
@@ -104,4 +105,10 @@ if "$BIN/polynav" --shm nosuch_$$ --grid "$tmp/nav.yaml" --zones maps/nav/lab.ya
   echo "polynav ran without polylocd" >&2; exit 1
 fi
 grep -q "polyloc.nosuch_$$" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+# A footprint with no area would make every pose look clear.
+if "$BIN/polynav" --shm nosuch_$$ --grid "$tmp/nav.yaml" --zones maps/nav/lab.yaml --goals "lab 1 bench" --wait 0.2 \
+    --footprint "0,0;0.5,0;1,0" 2> "$tmp/err"; then
+  echo "polynav took a footprint with no area" >&2; exit 1
+fi
+grep -q "footprint '0,0;0.5,0;1,0': the polygon" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
 echo "closed loop ok"

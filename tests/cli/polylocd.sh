@@ -26,6 +26,9 @@ polylocd:
 YAML
 if "$POLYLOCD" --config "$tmp/bad.yaml" --check 2> "$tmp/err"; then echo "bad config accepted" >&2; exit 1; fi
 grep -q "bad.yaml:6" "$tmp/err" && grep -q "slotz" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+# A port beyond 65535 is refused (a narrowing cast made 70000 port 4464), as usage: exit 2.
+rc=0; "$POLYLOCD" --config maps/config/lab.yaml --control-port 70000 --check 2> "$tmp/err" || rc=$?
+[ $rc -eq 2 ] && grep -q "control-port" "$tmp/err" || { echo "--control-port 70000: exit $rc" >&2; cat "$tmp/err" >&2; exit 1; }
 
 if "$POLYLOC" play --scenario maps/scenarios/lab_tour.yaml --shm "$instance" --wait 0.3 --duration 1 2> "$tmp/err"; then
   echo "play without polylocd succeeded" >&2; exit 1

@@ -100,6 +100,11 @@ TEST(MclConfigYaml, NumbersAreCheckedBeforeTheyAreNarrowed) {
   EXPECT_NE(screen.find("positions x headings"), std::string::npos) << screen;
   EXPECT_NE(screen.find("t.yaml:2:"), std::string::npos) << screen;
   EXPECT_EQ(error("mcl:\n  hypotheses: {screen: {positions: 1e5, headings: 72}}\n"), "");
+  // Local recovery's lattice, each number in range: 20,001^2 places x 72 headings.
+  const std::string lattice = error("mcl:\n  recovery_max_radius: 100\n  recovery_step: 0.01\n");
+  EXPECT_NE(lattice.find("t.yaml:3:"), std::string::npos) << lattice;
+  EXPECT_NE(lattice.find("recovery_max_radius / recovery_step gives a lattice of 400040001 places"), std::string::npos) << lattice;
+  EXPECT_EQ(error("mcl:\n  recovery_max_radius: 5\n  recovery_step: 0.05\n"), "");
   // A repeated key: the second value was silently dropped.
   const std::string twice = error("mcl:\n  particles: 500\n  particles: 5000\n");
   EXPECT_NE(twice.find("t.yaml:3:3: mcl.particles: repeated key (first at t.yaml:2:3)"), std::string::npos) << twice;

@@ -124,6 +124,34 @@ TEST_F(MclRobust, ParticlesInsideWallsGetZeroWeight) {
   EXPECT_EQ(loc.estimate().status, MclStatus::Lost);
 }
 
+// A global round's particles x beams beyond the ranges kept at once go in blocks: the memory
+// stays at kMaxHits ranges (a round of 10^7 particles x 1,000 beams would need 40 GB), and each
+// particle's weight is the one it gets weighed alone.
+TEST_F(MclRobust, ManyParticlesAreWeighedInBlocksOfBoundedMemory) {
+  MclConfig all = cfg;
+  all.beams_per_scan = 0;  // every valid beam
+  BeamSensorModel model(caster, rig, all);
+  const std::vector<float> ranges = scan();
+  const size_t B = BeamSensorModel::selectBeams(rig.sensors[0].beams(), ranges, 0).size();
+  ASSERT_GT(B, 100u);
+  const size_t P = BeamSensorModel::kMaxHits / B + 5;  // two blocks
+  ParticleSet ps;
+  resizeParticles(ps, P);
+  for (size_t p = 0; p < P; ++p) setParticle(ps, p, Pose::planar(0.5 + 1e-6 * double(p % 1000), 0.5, 0.3 + 1e-5 * double(p % 997)));
+  std::vector<double> ll(P, 0.0);
+  SensorFrame frame;
+  frame.ranges = ranges;
+  model.weigh(ps, frame, ll);
+  EXPECT_LE(model.hitsCapacity(), BeamSensorModel::kMaxHits);
+  for (const size_t p : {size_t(0), P / 2, BeamSensorModel::kMaxHits / B - 1, BeamSensorModel::kMaxHits / B, P - 1}) {
+    BeamSensorModel alone(caster, rig, all);
+    const ParticleSet one = gatherParticles(ps, {p});
+    std::vector<double> l1(1, 0.0);
+    alone.weigh(one, frame, l1);
+    EXPECT_EQ(l1[0], ll[p]) << "particle " << p;
+  }
+}
+
 TEST(MclParts, SystematicResampleAndKld) {
   std::vector<double> lw = {std::log(0.5), std::log(0.25), std::log(0.25), -std::numeric_limits<double>::infinity()};
   ASSERT_TRUE(normalizeLogWeights(lw));

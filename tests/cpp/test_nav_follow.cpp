@@ -371,6 +371,10 @@ TEST(NavGridIo, ErrorsNameTheFileAndTheKey) {
   y = dir.write("short.yaml", yaml("map.pgm", "", "[1.0, 2.0]"));
   e = loadError(y);
   EXPECT_TRUE(has(e, y) && has(e, "origin")) << e;
+  // A key given twice: yaml-cpp kept one of them silently.
+  y = dir.write("twice.yaml", yaml("map.pgm", "resolution: 0.1\n"));
+  e = loadError(y);
+  EXPECT_TRUE(has(e, y) && has(e, "line 7: key 'resolution' given twice")) << e;
   // A key of the wrong type.
   y = dir.write("badtype.yaml", yaml("map.pgm", "", "[1.0, 2.0, 0.0]", "resolution: fine\n"));
   e = loadError(y);

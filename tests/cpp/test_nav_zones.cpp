@@ -264,7 +264,9 @@ TEST(NavZones, LoadErrorsNameFileLineAndKey) {
               "duplicate name 'g'");
   expectError("goals:\n  - {name: g, pose: [1, 2]}\n", 2, "goals[0].pose", "expected [x, y, yaw in degrees]");
   expectError("goals:\n  - {name: g, pose: [1, 2, north]}\n", 2, "goals[0].pose[2]", "angle");
-  expectError("goals:\n  - {name: g, pose: [1, 2, 0], approach: -1}\n", 2, "goals[0].approach", "must be >= 0");
+  expectError("goals:\n  - {name: g, pose: [1, 2, 0], approach: -1}\n", 2, "goals[0].approach", "must be in [0, 10] m");
+  expectError("rooms:\n  - {name: r, polygon: [[0, 0], [4, 0], [4, 3]]}\ngoals:\n  - {name: g, pose: [1e300, 2, 0]}\n", 4,
+              "goals[0].pose", "the goal (1e+300, 2) lies more than 10 m outside the rooms and corridors");
   expectError("goals:\n  - {name: g, pose: [0.5, 0.5, 0]}\ndanger:\n  - {name: pit, polygon: [[0, 0], [1, 0], [1, 1], [0, 1]]}\n",
               2, "goals[0].pose", "lies in danger zone 'pit'");
   expectError("goals:\n  - {name: g, pose: [1.3, 0.5, 0]}\ndanger:\n  - {name: pit, polygon: [[0, 0], [1, 0], [1, 1], [0, 1]]}\n",
@@ -304,6 +306,12 @@ TEST(NavZones, ValidateZonesBuiltInCode) {
   bad = z;
   bad.goals[1].name = bad.goals[0].name;
   EXPECT_NE(thrown([&] { bad.validate(); }).find("duplicate name"), std::string::npos);
+  bad = z;
+  bad.goals[0].pose = {1e300, 6.0, 0};  // finite, and no place
+  EXPECT_NE(thrown([&] { bad.validate(); }).find("goals[0] '" + z.goals[0].name + "': the goal (1e+300, 6) lies more than 10 m outside"), std::string::npos);
+  bad = z;
+  bad.goals[0].approach = 1e300;
+  EXPECT_NE(thrown([&] { bad.validate(); }).find("approach must be in [0, 10] m"), std::string::npos);
 }
 
 // ---------------------------------------------------------------------------- the lab, its map

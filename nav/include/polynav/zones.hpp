@@ -32,8 +32,9 @@
 // key, an unknown or repeated key (typos never pass silently), a value of the wrong kind, a number
 // that is not finite (.nan, .inf), a point that is not two numbers, a polygon with fewer than
 // 3 points or one that is not simple or has no area, a door width or depth <= 0 or a wall < 0, a
-// zero `along` or corridor `axis`, an approach < 0, a name that is empty or given twice in one
-// section (a room and a door may share a name), a goal or its approach pose inside a danger zone.
+// zero `along` or corridor `axis`, an approach outside [0, 10] m, a name that is empty or given twice in one
+// section (a room and a door may share a name), a goal or its approach pose inside a danger zone,
+// a goal more than 10 m outside the rooms and corridors.
 #pragma once
 
 #include <polynav/nav_grid.hpp>

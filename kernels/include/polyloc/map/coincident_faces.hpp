@@ -48,7 +48,8 @@ class CoincidentFaces {
   Eigen::AlignedBox3f bounds_;
   float cell_ = 1.f;
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
-  std::vector<uint32_t> cell_first_, cell_parts_;  // CSR: parts overlapping each cell
+  std::vector<uint32_t> cell_first_, cell_parts_;  // CSR: parts overlapping each cell, by triangle
+  std::vector<uint32_t> cell_tris_;                // the triangle of each cell_parts_ entry
 };
 
 }  // namespace polyloc

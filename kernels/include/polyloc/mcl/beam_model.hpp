@@ -38,6 +38,10 @@ class BeamSensorModel : public SensorModel {
   // log p(measured | expected), expected = +inf when outside the window.
   static double logLikelihood(double measured, double expected, double range_max, const BeamModel& m);
 
+  // Rays cast at once: the particles go in blocks of this many rays (64 MiB of ranges).
+  static constexpr size_t kMaxHits = size_t(1) << 24;
+  size_t hitsCapacity() const { return hits_.capacity(); }  // ranges kept between calls
+
  protected:
   const RayCaster& caster_;
   const Rig& rig_;
