@@ -1,18 +1,11 @@
 #include <polyloc/mcl/beam_model.hpp>
 #include <polyloc/mcl/fit_check.hpp>
+#include <polyloc/mcl/level_beams.hpp>
 
 #include <cmath>
 #include <vector>
 
 namespace polyloc {
-
-namespace {
-// Beams steeper than this (|sin| of their elevation in the map) are not compared: tilted
-// scanners and cameras mostly see the floor, which is explained at any place on a flat floor,
-// and diluted the share of level beams that see through walls at a wrong place (simulated
-// kidnapping: 8 of 20 never contradicted).
-constexpr double kMaxElevationSin = 0.17;  // ~10 deg
-}  // namespace
 
 ScanFit checkFit(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans, const Pose& map_T_base,
                  double tolerance, size_t beams_per_scan) {
@@ -25,7 +18,7 @@ ScanFit checkFit(const RayCaster& caster, const Rig& rig, std::span<const Refine
     const Pose S = map_T_base * s.base_T_base_at_scan * sensor.mount;
     for (size_t b : BeamSensorModel::selectBeams(all, s.ranges, beams_per_scan)) {
       const Eigen::Vector3d d = S.rotate(Eigen::Vector3d(all.dx[b], all.dy[b], all.dz[b]));
-      if (std::abs(d.z()) > kMaxElevationSin * d.norm()) continue;
+      if (!isLevelRay(d)) continue;  // level_beams.hpp
       ox.push_back(float(S.x())), oy.push_back(float(S.y())), oz.push_back(float(S.z()));
       dx.push_back(float(d.x())), dy.push_back(float(d.y())), dz.push_back(float(d.z()));
       tmin.push_back(all.range_min), tmax.push_back(all.range_max);

@@ -1,5 +1,6 @@
 #include <polyloc/mcl/beam_model.hpp>
 #include <polyloc/mcl/pose_search.hpp>
+#include <polyloc/mcl/level_beams.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -24,21 +25,28 @@ PoseSearchResult searchPose(const RayCaster& caster, const Rig& rig, std::span<c
   res.pose = guess;
   std::vector<ScanBeams> sb;
   const float w = float(3 * o.truncate);
-  for (const RefineScan& s : scans) {
-    if (s.sensor >= rig.size()) continue;
-    const Sensor& sensor = rig.sensors[s.sensor];
-    const BeamSet all = sensor.beams();
-    ScanBeams b;
-    b.beams.range_min = all.range_min, b.beams.range_max = all.range_max;
-    b.base_T_sensor = s.base_T_base_at_scan * sensor.mount;
-    for (size_t k : BeamSensorModel::selectBeams(all, s.ranges, o.beams_per_scan)) {
-      b.beams.push(all.dx[k], all.dy[k], all.dz[k]);
-      b.measured.push_back(s.ranges[k]);
-      b.tmin.push_back(std::max(all.range_min, s.ranges[k] - w));
-      b.tmax.push_back(std::min(all.range_max, s.ranges[k] + w));
+  // Level beams only (level_beams.hpp), unless the round has none: the search is planar, and
+  // the lab rig's four tilted scanners tripled its rays for floor hits that fit every candidate.
+  for (const bool level_only : {true, false}) {
+    for (const RefineScan& s : scans) {
+      if (s.sensor >= rig.size()) continue;
+      const Sensor& sensor = rig.sensors[s.sensor];
+      const BeamSet all = sensor.beams();
+      ScanBeams b;
+      b.beams.range_min = all.range_min, b.beams.range_max = all.range_max;
+      b.base_T_sensor = s.base_T_base_at_scan * sensor.mount;
+      const Pose map_T_sensor = guess * b.base_T_sensor;
+      for (size_t k : BeamSensorModel::selectBeams(all, s.ranges, o.beams_per_scan)) {
+        if (level_only && !isLevelRay(map_T_sensor.rotate(Eigen::Vector3d(all.dx[k], all.dy[k], all.dz[k])))) continue;
+        b.beams.push(all.dx[k], all.dy[k], all.dz[k]);
+        b.measured.push_back(s.ranges[k]);
+        b.tmin.push_back(std::max(all.range_min, s.ranges[k] - w));
+        b.tmax.push_back(std::min(all.range_max, s.ranges[k] + w));
+      }
+      res.beams += b.measured.size();
+      if (!b.measured.empty()) sb.push_back(std::move(b));
     }
-    res.beams += b.measured.size();
-    if (!b.measured.empty()) sb.push_back(std::move(b));
+    if (!sb.empty()) break;
   }
   if (sb.empty() || (o.window_xy <= 0 && o.window_yaw <= 0)) return res;
 

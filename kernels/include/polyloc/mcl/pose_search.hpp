@@ -3,8 +3,10 @@
 // by ray casting): every candidate's beams are cast with windows around their measured ranges
 // and scored by truncated squared range residuals, so people and clutter cost a constant and a
 // wall a few centimetres off still pulls. Coarse to fine: the window at step_xy / step_yaw, then
-// +- half a step around the best cell at a quarter step. Gauss-Newton refinement (refine.hpp) starts from
-// the result: on maps whose walls are steps of grid cells its basin is a few centimetres only.
+// +- half a step around the best cell at a quarter step. Only level beams are scored
+// (level_beams.hpp; all beams when a round has none): floor hits fit every candidate alike.
+// Gauss-Newton refinement (refine.hpp) starts from the result: on maps whose walls are steps of
+// grid cells its basin is a few centimetres only.
 #pragma once
 
 #include <polyloc/geometry/pose.hpp>
