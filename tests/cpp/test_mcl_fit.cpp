@@ -24,6 +24,14 @@ struct Room {
   Pose truth = Pose::planar(-0.8, 0.4, 0.3);
   std::vector<float> ranges = simulateScan(caster, rig.sensors[0], truth, 0.01, 1);
   RefineScan scan() const { return RefineScan{0, ranges, Pose()}; }
+  // The rig and a second scanner pitched 30 deg down: every beam at least 25 deg below level.
+  Rig withTiltedScanner() const {
+    Rig out = rig;
+    PlanarScannerSpec down = std::get<PlanarScannerSpec>(rig.sensors[0].spec);
+    down.fov_rad = deg2rad(60.0);
+    out.add(Sensor{"tilted", down, Pose::fromXYZRPY(0.1, 0, 0.4, 0, deg2rad(30.0), 0)}, "");
+    return out;
+  }
 };
 
 TEST(FitCheck, TheRightPlaceIsExplainedAWrongOneSeenThrough) {
@@ -53,10 +61,7 @@ TEST(FitCheck, PeopleInFrontShortenBeamsAndContradictNothing) {
 // its beams are not compared, and do not dilute the level scanner's share seen through walls.
 TEST(FitCheck, TiltedBeamsAreNotCompared) {
   Room r;
-  Rig rig = r.rig;
-  PlanarScannerSpec down = std::get<PlanarScannerSpec>(r.rig.sensors[0].spec);
-  down.fov_rad = deg2rad(60.0);  // pitched 30 deg down: every beam at least 25 deg below level
-  rig.add(Sensor{"tilted", down, Pose::fromXYZRPY(0.1, 0, 0.4, 0, deg2rad(30.0), 0)}, "");
+  const Rig rig = r.withTiltedScanner();
   const std::vector<float> floor_ranges = simulateScan(r.caster, rig.sensors[1], r.truth, 0.01, 1);
   const std::vector<RefineScan> scans{r.scan(), RefineScan{1, floor_ranges, Pose()}};
   const Pose wrong = Pose::planar(1.0, -1.0, 1.0);
@@ -88,10 +93,7 @@ TEST(PoseSearch, FindsThePoseFromCentimetresAndDegreesOff) {
 // round has no level one.
 TEST(PoseSearch, ScoresLevelBeamsOnly) {
   Room r;
-  Rig rig = r.rig;
-  PlanarScannerSpec down = std::get<PlanarScannerSpec>(r.rig.sensors[0].spec);
-  down.fov_rad = deg2rad(60.0);  // pitched 30 deg down: every beam at least 25 deg below level
-  rig.add(Sensor{"tilted", down, Pose::fromXYZRPY(0.1, 0, 0.4, 0, deg2rad(30.0), 0)}, "");
+  const Rig rig = r.withTiltedScanner();
   const std::vector<float> floor_ranges = simulateScan(r.caster, rig.sensors[1], r.truth, 0.01, 1);
   const std::vector<RefineScan> scans{r.scan(), RefineScan{1, floor_ranges, Pose()}};
   const Pose start = Pose::planar(r.truth.x() + 0.07, r.truth.y() - 0.06, r.truth.yaw() + deg2rad(1.5));
