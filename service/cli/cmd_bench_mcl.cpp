@@ -1,6 +1,7 @@
 // polyloc bench mcl: measurement updates per second of the localiser on a map (N particles x B
-// beams of one planar scanner, all particles weighed, resampling included, no refinement), and the rays/s of
-// the same rays cast directly through castScans in the same run, for the MCL / raycast ratio.
+// beams of one planar scanner, all particles weighed, resampling included, refinement only with
+// --refine), and the rays/s of the same rays cast directly through castScans in the same run,
+// for the MCL / raycast ratio.
 #include "cli/common_options.hpp"
 #include "cli/parse_number.hpp"
 #include "cli/commands.hpp"
@@ -34,6 +35,7 @@ struct BenchMclArgs {
   uint64_t seed = 1;
   std::string model = "beam";
   std::string caster = "embree";
+  bool refine = false;
   bool json = false;
 };
 
@@ -50,9 +52,9 @@ void runBenchMcl(const BenchMclArgs& a) {
   cfg.alpha_slow = cfg.alpha_fast = 0;
   cfg.beams_per_scan = a.beams;
   cfg.update_min_distance = 0;  // every scan is an update
-  // The filter's update (weighing, resampling) as the thesis measured it: the refinement after
-  // it (on by default since the real logs) is a stage of its own, timed by localize.
-  cfg.refine.enabled = false;
+  // The filter's update (weighing, resampling) as the thesis measured it, unless --refine: the
+  // refinement after it (on by default since the real logs) is a stage of its own.
+  cfg.refine.enabled = a.refine;
   cfg.threads = a.threads;
   cfg.seed = a.seed;
   cfg.model = a.model;
@@ -122,6 +124,7 @@ void runBenchMcl(const BenchMclArgs& a) {
   nlohmann::json j;
   j["map"] = a.map;
   j["model"] = a.model;
+  j["refine"] = a.refine;
   j["caster"] = weighing.name();
   j["model_setup_s"] = setup_s;
   j["particles"] = a.particles;
@@ -164,6 +167,7 @@ void registerBenchMcl(CLI::App& bench) {
   c.add_option("--caster", args->caster, "Map representation the particles are weighed against (mcl.caster)")
       ->capture_default_str()
       ->check(CLI::IsMember(casterNames()));
+  c.add_flag("--refine", args->refine, "Refine the estimate after each update (mcl.refine, on in the configs); off: the filter alone");
   c.add_flag("--json", args->json, "Print one JSON object on stdout");
   c.callback([args] { runBenchMcl(*args); });
 }

@@ -11,7 +11,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cd "$src"
 rc=$("$polyloc" bench raycast --map maps/lab.obj --caster gpu --poses 2000 --repeat 1 --json)
-mcl=$("$polyloc" bench mcl --map maps/lab.obj --caster gpu --particles 2000 --updates 5 --json)
+mcl=$("$polyloc" bench mcl --map maps/lab.obj --caster gpu --particles 2000 --updates 5 --refine --json)
 echo "$rc"
 echo "$mcl"
 python3 - "$rc" "$mcl" <<'PY'

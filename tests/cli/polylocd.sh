@@ -26,6 +26,10 @@ polylocd:
 YAML
 if "$POLYLOCD" --config "$tmp/bad.yaml" --check 2> "$tmp/err"; then echo "bad config accepted" >&2; exit 1; fi
 grep -q "bad.yaml:6" "$tmp/err" && grep -q "slotz" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
+# --check checks what a start checks: a control address that is no IPv4 address, with file:line.
+sed -e 's|^  slotz: 4|  control: {bind: "999.1.1.1"}|' "$tmp/bad.yaml" > "$tmp/bind.yaml"
+if "$POLYLOCD" --config "$tmp/bind.yaml" --check 2> "$tmp/err"; then echo "bad control.bind accepted by --check" >&2; exit 1; fi
+grep -q "bind.yaml:6" "$tmp/err" && grep -q "999.1.1.1' is not an IPv4 address" "$tmp/err" || { cat "$tmp/err" >&2; exit 1; }
 # A port beyond 65535 is refused (a narrowing cast made 70000 port 4464), as usage: exit 2.
 rc=0; "$POLYLOCD" --config maps/config/lab.yaml --control-port 70000 --check 2> "$tmp/err" || rc=$?
 [ $rc -eq 2 ] && grep -q "control-port" "$tmp/err" || { echo "--control-port 70000: exit $rc" >&2; cat "$tmp/err" >&2; exit 1; }

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <spdlog/sinks/ringbuffer_sink.h>
+#include <spdlog/spdlog.h>
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -171,6 +173,32 @@ ServerConfig anyPort() {
   ServerConfig c;
   c.port = 0;
   return c;
+}
+
+// The protocol has no authentication: a view opened beyond this computer says so at start, one
+// on the loopback does not (was: live.address 0.0.0.0 accepted silently).
+TEST(FoxgloveServerLimits, AViewOpenToOtherHostsWarnsAtStart) {
+  auto ring = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(16);
+  const auto before = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>("live_test", ring));
+  auto warned = [&] {
+    for (const std::string& line : ring->last_formatted())
+      if (line.find("open to every host that reaches it (no authentication)") != std::string::npos) return true;
+    return false;
+  };
+  {
+    FoxgloveServer local(anyPort());
+    local.start();
+  }
+  EXPECT_FALSE(warned());
+  ServerConfig open = anyPort();
+  open.address = "0.0.0.0";
+  {
+    FoxgloveServer s(open);
+    s.start();
+  }
+  EXPECT_TRUE(warned());
+  spdlog::set_default_logger(before);
 }
 
 // Was: 800 ids on the latched /map queued the map 800 times (forced sends), RSS +483 MB.
