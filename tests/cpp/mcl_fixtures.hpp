@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -71,15 +72,17 @@ inline std::vector<Pose> loopTrajectory(size_t steps) {
   return out;
 }
 
-// Feeds the trajectory: odometry (exact, in an odom frame offset from map) then one scan per pose.
+// Feeds the trajectory: odometry (exact, in an odom frame offset from map) then one scan per pose;
+// `after(i)`, when given, after the scan of pose i (to look at each round's estimate).
 inline void drive(Localizer& loc, const RayCaster& caster, const Rig& rig, const std::vector<Pose>& truth,
-                  double scan_sigma = 0.01) {
+                  double scan_sigma = 0.01, const std::function<void(size_t)>& after = {}) {
   const Pose map_T_odom = Pose::planar(0.7, -0.3, 0.5);
   for (size_t i = 0; i < truth.size(); ++i) {
     const int64_t t = int64_t(i) * 100'000'000;
     loc.addOdometry(t, map_T_odom.inverse() * truth[i]);
     const auto r = simulateScan(caster, rig.sensors[0], truth[i], scan_sigma, i);
     loc.addScan(0, t, r);
+    if (after) after(i);
   }
 }
 

@@ -50,18 +50,14 @@ TEST(MclTracking, WithoutRefinementTheCloudKeepsTracking) {
   const auto truth = loopTrajectory(60);
   Localizer loc(caster, mesh, rig, cfg);
   loc.initPose(truth[0], planarCov(0.05, 0.05), 0);
-  const Pose map_T_odom = Pose::planar(0.7, -0.3, 0.5);
   size_t tracking = 0, rounds = 0;
   double worst = 0;
-  for (size_t i = 0; i < truth.size(); ++i) {
-    const int64_t t = int64_t(i) * 100'000'000;
-    loc.addOdometry(t, map_T_odom.inverse() * truth[i]);
-    loc.addScan(0, t, simulateScan(caster, rig.sensors[0], truth[i], 0.01, i));
-    if (i < 10) continue;  // converging from the start's 5 cm
+  drive(loc, caster, rig, truth, 0.01, [&](size_t i) {
+    if (i < 10) return;  // converging from the start's 5 cm
     ++rounds;
     tracking += loc.estimate().status == MclStatus::Tracking;
     worst = std::max(worst, posErr(loc.estimate().pose, truth[i]));
-  }
+  });
   std::printf("[mcl] without refinement: tracking %zu of %zu rounds, worst %.4f m, recoveries %llu\n", tracking, rounds, worst,
               (unsigned long long)loc.counters().recoveries);
   EXPECT_EQ(tracking, rounds);
