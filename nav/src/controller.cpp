@@ -44,7 +44,7 @@ const char* phaseName(Phase p) {
 }
 
 Controller::Controller(const LoadedGrid& grid, Zones zones, const ControllerConfig& config, LocalPlanner local)
-    : raw_(grid.grid), zones_(std::move(zones)), cfg_(config), local_(std::move(local)) {
+    : raw_(grid.grid), zones_(std::move(zones)), cfg_(config), local_(std::move(local)), wave_(cfg_.plan) {
   if (!local_) throw std::invalid_argument("Controller: no local planner");
   for (size_t i = 0; i < grid.danger.size() && i < raw_.occupied.size(); ++i)
     if (grid.danger[i]) raw_.occupied[i] = 1;

@@ -643,4 +643,58 @@ TEST(NavController, PersonOnThePathSeenByTheVrsIsKeptClear) { personOnThePath(tr
 
 TEST(NavController, PersonOnThePathOnlyTrackedIsKeptClear) { personOnThePath(false); }
 
+// Cells closed for an obstacle the map lacks open again after the controller's plan.blocked_max_age_s
+// (docs/navigation.md: 30 s by default), counted from when they were last seen blocked: a box on
+// the way in room a is seen and gone round; 6 s after the robot entered room b (the box behind,
+// out of sight of the path check, and a replan in between) the cells are open again with a 2 s age
+// and still closed with the default.
+struct BlockedRun {
+  size_t blocked_max = 0;    // the most cells closed at once
+  size_t blocked_later = 0;  // cells closed 6 s after entering room b
+  int state = 0;
+};
+
+BlockedRun runPastABox(const ControllerConfig& cfg) {
+  Sim sim(twoRooms(), twoRoomZones(), cfg, {1.0, 1.0, 0.0});
+  LoadedGrid w = twoRooms();
+  fill(w.grid, {3.2, 1.0, 3.6, 1.9});
+  sim.setWorld(std::move(w));
+  sim.ctrl.setGoals({goal("room b bench", 10.0, 3.0, 90)});
+  BlockedRun r;
+  double in_b = -1;
+  for (size_t i = 0; i < 2500; ++i) {
+    const NavOutput& o = sim.step();
+    r.state = o.state;
+    r.blocked_max = std::max(r.blocked_max, sim.ctrl.blockedCells());
+    if (in_b < 0 && sim.pose.x() > kWallX1 + 0.5) in_b = sim.t;
+    if (in_b >= 0 && sim.t >= in_b + 6.0) {
+      r.blocked_later = sim.ctrl.blockedCells();
+      break;
+    }
+    if (o.state != 1) break;
+  }
+  EXPECT_GE(in_b, 0) << "never reached room b\n" << sim.tail();
+  if (auto c = firstCollision(sim))
+    ADD_FAILURE() << "footprint in a wall or the box at t " << sim.trace[*c].t << " pose (" << sim.trace[*c].pose.transpose() << ")";
+  return r;
+}
+
+TEST(NavController, BlockedCellsOpenAgainAfterTheConfiguredAge) {
+  ControllerConfig quick;
+  quick.plan.blocked_max_age_s = 2.0;
+  const BlockedRun a = runPastABox(quick);
+  ASSERT_GT(a.blocked_max, 0u) << "the box was never seen on the path";
+  EXPECT_EQ(a.blocked_later, 0u) << "cells still closed in room b with a 2 s age";
+  EXPECT_EQ(a.state, 1) << "the mission should still be under way";
+  const BlockedRun d = runPastABox(ControllerConfig{});
+  ASSERT_GT(d.blocked_max, 0u);
+  EXPECT_GT(d.blocked_later, 0u) << "cells opened in room b with the default 30 s age";
+  EXPECT_THROW(Controller(twoRooms(), twoRoomZones(), [] {
+                 ControllerConfig c;
+                 c.plan.blocked_max_age_s = -1;
+                 return c;
+               }(), Sim::ndPlanner(ControllerConfig{})),
+               std::invalid_argument);
+}
+
 }  // namespace polyloc::t_nav_controller

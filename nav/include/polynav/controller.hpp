@@ -45,6 +45,7 @@ struct ControllerConfig {
   double stall_time = 3.0;       // s standing still while driving: back up 0.3 m and plan again
   double person_radius = 0.35;   // m: a walking person as the local planner keeps clear of them
   double person_ahead = 1.0;     // s: where a tracked person will be counts as an obstacle too
+  WavefrontConfig plan;          // the global planner, and how long cells found blocked stay closed
 };
 
 // A local planner's answer: speeds and what it saw ("HSGR", "LS2", "vfh", ...).
@@ -88,6 +89,7 @@ class Controller {
   const std::vector<GoalSpot>& goals() const { return goals_; }
   bool done() const { return goal_ >= goals_.size(); }
   const PathFollow& path() const { return follow_; }
+  size_t blockedCells() const { return blocked_.size(); }  // closed for the planner until they age
 
  private:
   void startGoal(double t, bool leave);
