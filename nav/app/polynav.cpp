@@ -8,6 +8,7 @@
 #include <polynav/controller.hpp>
 #include <polynav/nearness_diagram.hpp>
 #include <polynav/polygon.hpp>
+#include <polynav/polylocd_link.hpp>
 #include <polynav/vfh.hpp>
 
 #include <CLI/CLI.hpp>
@@ -72,20 +73,6 @@ std::vector<polynav::GoalSpot> pickGoals(const Args& a, const polynav::Zones& z)
   }
   if (out.empty()) die("no goals: give --goals NAME,NAME or --random N");
   return out;
-}
-
-double yawOf(double qw, double qx, double qy, double qz) { return polyloc_quaternion_yaw(qw, qx, qy, qz); }
-
-// The pose now, as REP-105 has it: polylocd's map_T_odom (from its last update) after the base's
-// newest odometry. polylocd updates every few centimetres of motion; odometry fills in between,
-// which is what lets the robot stop within millimetres of where it means to.
-Eigen::Vector3d poseNow(const polyloc_pose& p, const polyloc_odometry* odom) {
-  if (!odom) return {p.x, p.y, yawOf(p.qw, p.qx, p.qy, p.qz)};
-  const double myaw = yawOf(p.map_odom[3], p.map_odom[4], p.map_odom[5], p.map_odom[6]);
-  const double oyaw = yawOf(odom->qw, odom->qx, odom->qy, odom->qz);
-  const double c = std::cos(myaw), s = std::sin(myaw);
-  return {p.map_odom[0] + c * odom->x - s * odom->y, p.map_odom[1] + s * odom->x + c * odom->y,
-          std::remainder(myaw + oyaw, 2 * M_PI)};
 }
 
 }  // namespace
@@ -198,29 +185,21 @@ int main(int argc, char** argv) {
     if (w != POLYLOC_OK) continue;
     polyloc_frame_info info;
     if (polyloc_read_next(c, vrs_ch, buf.data(), uint32_t(buf.size()), &info) != POLYLOC_OK) continue;
-    polyloc_vrs v;
-    std::memcpy(&v, buf.data(), sizeof v);
-    // The count is the writer's word: never copy beyond what the slot holds.
-    if (info.size < offsetof(polyloc_vrs, ranges) || v.count > (std::min<size_t>(info.size, buf.size()) - offsetof(polyloc_vrs, ranges)) / sizeof(float)) {
-      std::fprintf(stderr, "polynav: VRS frame of %u bytes claims %u ranges; skipped\n", info.size, v.count);
+    std::string why;
+    auto frame = polynav::decodeVrs(buf.data(), std::min<size_t>(info.size, buf.size()), &why);
+    if (!frame) {
+      std::fprintf(stderr, "polynav: %s; skipped\n", why.c_str());
       continue;
     }
-    last_stamp = v.stamp_ns;
+    last_stamp = frame->stamp_ns;
     polynav::NavInput in;
-    if (!t0) t0 = v.stamp_ns;
-    in.t = double(v.stamp_ns - t0) * 1e-9;
-    in.scan.angle_min = v.angle_min + v.angle_increment / 2;  // segment centres
-    in.scan.angle_increment = v.angle_increment;
-    in.scan.range_max = v.range_max;
-    in.scan.ranges.resize(v.count);
-    std::memcpy(in.scan.ranges.data(), buf.data() + offsetof(polyloc_vrs, ranges), v.count * sizeof(float));
-    polyloc_pose p{};  // a failed read leaves it an identity pose, never uninitialised memory
-    p.qw = 1, p.map_odom[3] = 1;
-    in.localised = polyloc_read_pose(c, &p, nullptr) == POLYLOC_OK && p.status == POLYLOC_POSE_TRACKING;
+    if (!t0) t0 = frame->stamp_ns;
+    in.t = double(frame->stamp_ns - t0) * 1e-9;
+    in.scan = std::move(frame->scan);
+    const polynav::PoseRead pose = polynav::readPoseNow(c, odom_ch);
+    in.localised = pose.localised;
     if (!in.localised) ++lost;
-    polyloc_odometry odom;
-    const bool have_odom = odom_ch >= 0 && polyloc_read_newest(c, odom_ch, &odom, sizeof odom, nullptr) == POLYLOC_OK;
-    in.pose = poseNow(p, have_odom ? &odom : nullptr);
+    in.pose = pose.pose;
     polyloc_tracks tracks;
     if (polyloc_read_tracks(c, &tracks, nullptr) == POLYLOC_OK)
       for (uint32_t k = 0; k < tracks.count && k < POLYLOC_MAX_TRACKS; ++k)
@@ -234,7 +213,7 @@ int main(int argc, char** argv) {
       o.status = std::string("error: ") + e.what();
     }
     ++decisions;
-    if (polyloc_write_command(c, cmd_ch, v.stamp_ns, o.v, 0.0, o.w, uint32_t(o.state), uint32_t(o.goal), o.status.c_str()) != POLYLOC_OK)
+    if (polyloc_write_command(c, cmd_ch, last_stamp, o.v, 0.0, o.w, uint32_t(o.state), uint32_t(o.goal), o.status.c_str()) != POLYLOC_OK)
       std::fprintf(stderr, "polynav: %s\n", polyloc_last_error());
     if (trace)
       std::fprintf(trace, "%.3f,%.4f,%.4f,%.4f,%zu,%d,%s,%.4f,%.4f,%.3f,\"%s\"\n", in.t, in.pose.x(), in.pose.y(), in.pose.z(),

@@ -49,6 +49,7 @@ struct Args {
   std::string scenario, vrs = "on", local = "nd", plot, keep;
   size_t missions = 10;
   int threads = 2;
+  int live_port = 0;  // the internal polylocd's live view: none unless asked
   int64_t seed = -1;
   double rate = 1000, margin = 60;
   bool json = false, quiet = false;
@@ -71,7 +72,8 @@ std::vector<polynav::GoalSpot> drawGoals(const NavigationSpec& nav, const polyna
 
 // The scenario's config for this polylocd: absolute paths, the source clock (lockstep), no TCP
 // control endpoint (parallel runs), and for --vrs off a VRS of the level scanners alone.
-std::string writeDaemonConfig(const Scenario& s, const std::string& instance, bool vrs_on, const fs::path& dir) {
+std::string writeDaemonConfig(const Scenario& s, const std::string& instance, bool vrs_on, int live_port,
+                              const fs::path& dir) {
   const fs::path src = s.config.file;
   YAML::Node y = YAML::LoadFile(src.string());
   auto absolute = [&](const char* key) {
@@ -84,7 +86,7 @@ std::string writeDaemonConfig(const Scenario& s, const std::string& instance, bo
   y["polylocd"]["instance"] = instance;
   y["polylocd"]["clock"] = "source";
   y["polylocd"]["control"]["enabled"] = false;
-  y["polylocd"]["live"]["port"] = 0;  // an internal daemon: the user's live port (8765) stays theirs
+  y["polylocd"]["live"]["port"] = live_port;  // 0 unless asked: the user's live port (8765) stays theirs
   if (vrs_on && !s.navigation.vrs_sources.empty()) {
     YAML::Node sources(YAML::NodeType::Sequence);
     for (const auto& [sensor, mode] : s.navigation.vrs_sources) {
@@ -169,7 +171,7 @@ void run(const Args& a) {
   hb.danger_labels = s.config.vrs.danger_labels;
   const HeightBand band = heightBandGrid(map, hb);
   saveHeightBand(band, (dir / "nav.yaml").string());
-  const std::string daemon_cfg = writeDaemonConfig(s, instance, a.vrs == "on", dir);
+  const std::string daemon_cfg = writeDaemonConfig(s, instance, a.vrs == "on", a.live_port, dir);
 
   // The wavefront-optimal length of each mission, on the controller's own grid.
   polynav::LoadedGrid grid = polynav::loadNavGrid((dir / "nav.yaml").string());
@@ -346,6 +348,8 @@ void registerEvalNav(CLI::App& eval) {
   addSeedOption(c, a->seed, "Overrides the scenario's seed (people, noise, goals drawn)");
   c.add_option("--threads", a->threads, "polylocd's TBB threads")->capture_default_str()->check(CLI::Range(1, 256));
   c.add_option("--rate", a->rate, "Pacing against the wall clock (1: real time)")->capture_default_str()->check(finiteRange(0.1, 1e6));
+  c.add_option("--live-port", a->live_port, "Open the internal polylocd's live view on this port (0: none; 8765 is the usual)")
+      ->capture_default_str()->check(CLI::Range(0, 65535));
   c.add_option("--plot", a->plot, "PNG: map, the robot's path, goals, collisions");
   c.add_option("--keep", a->keep, "Keep the work files (grid, polylocd config, logs) in this folder");
   c.add_flag("--json", a->json, "Results as one JSON object on stdout");

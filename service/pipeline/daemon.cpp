@@ -63,8 +63,7 @@ struct Daemon::Impl final : PipelineSink {
     caster = std::make_unique<EmbreeCaster>(map, eo);
     weigh = makeWeighingCaster(map, pc.rig, pc.mcl, d.cfg_.daemon.threads);
     pipe = makePipeline();
-    gate = std::make_unique<InputGate>(seg, d.table_, d.cfg_.daemon, int(pipe->triggerSensor()),
-                                       [this](int64_t from, int64_t to) { timeJumped(from, to); });
+    gate = std::make_unique<InputGate>(seg, d.table_, d.cfg_.daemon, [this](int64_t from, int64_t to) { timeJumped(from, to); });
     w_pose = std::make_unique<shm::Writer>(seg, d.table_.pose, true);
     w_vrs = std::make_unique<shm::Writer>(seg, d.table_.vrs, true);
     w_tracks = std::make_unique<shm::Writer>(seg, d.table_.tracks, true);

@@ -19,8 +19,8 @@ int64_t clockNs(clockid_t clock) {
   return int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-InputGate::InputGate(shm::Segment& seg, const ChannelTable& table, const DaemonConfig& cfg, int trigger_sensor, TimeJump on_jump)
-    : seg_(seg), table_(table), cfg_(cfg), trigger_sensor_(trigger_sensor), on_jump_(std::move(on_jump)),
+InputGate::InputGate(shm::Segment& seg, const ChannelTable& table, const DaemonConfig& cfg, TimeJump on_jump)
+    : seg_(seg), table_(table), cfg_(cfg), on_jump_(std::move(on_jump)),
       clock_(cfg.max_age_ns, cfg.max_future_ns, cfg.clock_agree) {
   for (int ch : table_.inputs) readers_.emplace_back(seg_, ch, shm::Reader::Start::Next);
   const size_t n = table_.inputs.size();
@@ -125,16 +125,19 @@ bool InputGate::read() {
   return any;
 }
 
-// Stamp order across channels, odometry first at equal stamps: the localiser predicts with the
-// odometry up to a scan before it weighs the scan; the VRS trigger sensor last: the VRS then
-// holds every frame of its instant, and a pose that instant gives goes out before it. Frames
-// held from earlier passes merge in.
+// Stamp order across channels, odometry first at equal stamps (the localiser predicts with the
+// odometry up to a scan before it weighs the scan), then the order the frames were published
+// in, then the input's index. Publication order, not a rank of sensors: the frames of one
+// instant may be read in one pass (a backlog) or over several (a feed at 1x), and only the order
+// they were written in is the same both ways, so a replay gives the same poses at any speed
+// (Polylocd.PacedUnderACpuHogGivesTheSamePoses). Frames held from earlier passes merge in.
 void InputGate::order(std::vector<Frame>& pass) {
-  auto rank = [&](const Frame& t) {
-    if (t.input == odom_input_) return 0;
-    return desc(size_t(t.input)).sensor == trigger_sensor_ ? 2 : 1;
+  auto before = [&](const Frame& a, const Frame& b) {
+    if (a.stamp_ns != b.stamp_ns) return a.stamp_ns < b.stamp_ns;
+    const bool ao = a.input == odom_input_, bo = b.input == odom_input_;
+    if (ao != bo) return ao;
+    return a.publish_ns != b.publish_ns ? a.publish_ns < b.publish_ns : a.input < b.input;
   };
-  auto before = [&](const Frame& a, const Frame& b) { return a.stamp_ns != b.stamp_ns ? a.stamp_ns < b.stamp_ns : rank(a) < rank(b); };
   std::stable_sort(pass.begin(), pass.end(), before);
   if (held_.empty()) return;
   std::vector<Frame> merged;

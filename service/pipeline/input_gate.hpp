@@ -5,7 +5,7 @@
 // stamp, waiting for it at most odom_wait) and handed over. The daemon runs the pipeline and
 // publishes; this decides what the pipeline gets, and when. Health per input lives here.
 //
-//   InputGate gate(seg, table, cfg, trigger_sensor, [&](int64_t from, int64_t to) { restart(); });
+//   InputGate gate(seg, table, cfg, [&](int64_t from, int64_t to) { restart(); });
 //   if (gate.read()) for (const auto& f : gate.ready()) dispatch(f);
 #pragma once
 
@@ -37,7 +37,7 @@ class InputGate {
   // the caller starts its own state again.
   using TimeJump = std::function<void(int64_t from, int64_t to)>;
 
-  InputGate(shm::Segment& seg, const ChannelTable& table, const DaemonConfig& cfg, int trigger_sensor, TimeJump on_jump);
+  InputGate(shm::Segment& seg, const ChannelTable& table, const DaemonConfig& cfg, TimeJump on_jump);
 
   // Reads every input channel dry; true when something was read. ready() then holds the frames
   // to dispatch now, in order (frames waiting for their odometry are kept for a later call).
@@ -64,7 +64,6 @@ class InputGate {
   shm::Segment& seg_;
   const ChannelTable& table_;
   const DaemonConfig& cfg_;
-  int trigger_sensor_;
   TimeJump on_jump_;
   std::vector<shm::Reader> readers_;  // per input, in ChannelTable::inputs order
   std::vector<polyloc_input_health> health_;

@@ -66,8 +66,31 @@ assert j["drive"]["loop"]["commands_rejected"] == 0 and j["drive"]["base"]["reje
 PYEOF
 head -c 8 "$tmp/run.png" | od -An -c | grep -q "P   N   G"
 # The same run again on one polylocd thread: the same missions, decision for decision (lockstep,
-# the scenario's own stamps, every sensor frame on an odometry tick).
-"$POLYLOC" eval nav --scenario "$tmp/two.yaml" --missions 2 --json --quiet --threads 1 > "$tmp/eval1.json"
+# the scenario's own stamps, every sensor frame on an odometry tick). Asked for one, its polylocd
+# opens a live view (on a free port; watching changes nothing).
+port=$("$PY" -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+"$POLYLOC" eval nav --scenario "$tmp/two.yaml" --missions 2 --json --quiet --threads 1 --live-port "$port" > "$tmp/eval1.json" &
+eval_pid=$!
+pids+=($eval_pid)
+"$PY" - "$port" "$eval_pid" <<'PYEOF'
+import os, socket, sys, time
+port, pid = int(sys.argv[1]), int(sys.argv[2])
+while True:  # the live view answers while the missions run
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=1).close()
+        break
+    except OSError:
+        try:  # gone, or a zombie (this shell reaps it only after this script)
+            alive = open("/proc/%d/stat" % pid).read().rsplit(")", 1)[1].split()[0] != "Z"
+        except OSError:
+            alive = False
+        if not alive:
+            sys.exit("eval nav --live-port %d: nothing listened while it ran" % port)
+        time.sleep(0.1)
+PYEOF
+wait $eval_pid
+if "$POLYLOC" eval nav --scenario "$tmp/two.yaml" --live-port 70000 2> "$tmp/err.txt"; then exit 1; fi
+grep -q -- "--live-port" "$tmp/err.txt"
 "$PY" - "$tmp/eval.json" "$tmp/eval1.json" <<'PYEOF'
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
