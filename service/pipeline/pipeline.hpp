@@ -83,8 +83,6 @@ class Pipeline {
   std::optional<std::string> checkPose(const Pose& map_T_base, const Eigen::Matrix<double, 6, 6>& covariance) const;
   // Localising only; ignored in perception-only mode (initialised() stays false there).
   void initGlobal(int64_t stamp_ns);
-  // The sensor whose frames renew the VRS and the tracks (the last level scanner).
-  size_t triggerSensor() const { return trigger_; }
   bool initialised() const { return initialised_; }
   // Perception-only: the pose of the frames that follow, until the next call (before the first,
   // the identity). Throws std::logic_error when localising: the localiser owns the pose there.
