@@ -80,8 +80,9 @@ TEST(MclWeighing, ConfigErrorsNameTheKey) {
 TEST(MclWeighing, Grid2dFilterTracks) {
   const LoopRun r = trackLoopWeighingOn("grid2d");
   EXPECT_EQ(r.weighed_by, "grid2d");
-  EXPECT_LT(r.pos_err, 0.08);
-  EXPECT_LT(r.yaw_err_deg, 3.0);
+  // Measured 17.9 mm / 0.44 deg (5 cm cells): 1.5x worse fails (was 8 cm / 3 deg).
+  EXPECT_LT(r.pos_err, 0.027);
+  EXPECT_LT(r.yaw_err_deg, 0.66);
   EXPECT_EQ(r.estimate.status, MclStatus::Tracking);
   EXPECT_GT(r.estimate.updates, 40u);
 }

@@ -317,8 +317,9 @@ TEST(GpuCaster, BeamWeighingEqualsTheCpuModel) {
 TEST(GpuCaster, FilterWeighingOnTheGpuTracks) {
   const LoopRun r = trackLoopWeighingOn("gpu");
   EXPECT_EQ(r.weighed_by, "gpu");
-  EXPECT_LT(r.pos_err, 0.01);  // measured 0.7 mm, 0.003 deg (the Embree filter's figures)
-  EXPECT_LT(r.yaw_err_deg, 0.5);
+  // Measured 0.9 mm / 0.003 deg on Mesa's llvmpipe (the Embree filter's figures): 1.5x worse fails.
+  EXPECT_LT(r.pos_err, 0.0014);
+  EXPECT_LT(r.yaw_err_deg, 0.01);
   EXPECT_EQ(r.estimate.status, MclStatus::Tracking);
   EXPECT_GT(r.estimate.updates, 40u);
 }
