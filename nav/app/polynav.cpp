@@ -194,7 +194,7 @@ int main(int argc, char** argv) {
     last_stamp = frame->stamp_ns;
     polynav::NavInput in;
     if (!t0) t0 = frame->stamp_ns;
-    in.t = double(frame->stamp_ns - t0) * 1e-9;
+    in.t = polynav::secondsBetween(t0, frame->stamp_ns);
     in.scan = std::move(frame->scan);
     const polynav::PoseRead pose = polynav::readPoseNow(c, odom_ch);
     in.localised = pose.localised;
@@ -232,7 +232,7 @@ int main(int argc, char** argv) {
   // just after the last one so that the base takes it (a stamp of 0 is no time: refused).
   timespec now{};
   clock_gettime(CLOCK_REALTIME, &now);
-  const int64_t stop_stamp = last_stamp > 0 ? last_stamp + 1 : int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+  const int64_t stop_stamp = polynav::stopStamp(last_stamp, int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec);
   if (polyloc_write_command(c, cmd_ch, stop_stamp, 0, 0, 0, POLYLOC_NAV_IDLE, uint32_t(goals.size()), "polynav stopped") != POLYLOC_OK)
     std::fprintf(stderr, "polynav: the stop command was not written: %s\n", polyloc_last_error());
   if (!a.quiet && tty) std::fprintf(stderr, "\n");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace polynav {
 
@@ -26,6 +27,15 @@ std::optional<VrsFrame> decodeVrs(const void* slot, size_t size, std::string* wh
   f.scan.ranges.resize(v.count);
   std::memcpy(f.scan.ranges.data(), static_cast<const char*>(slot) + head, v.count * sizeof(float));
   return f;
+}
+
+double secondsBetween(int64_t t0_ns, int64_t t_ns) {
+  return double(static_cast<__int128>(t_ns) - t0_ns) * 1e-9;
+}
+
+int64_t stopStamp(int64_t last_ns, int64_t now_ns) {
+  if (last_ns <= 0) return now_ns;
+  return last_ns == std::numeric_limits<int64_t>::max() ? last_ns : last_ns + 1;
 }
 
 Eigen::Vector3d poseNow(const polyloc_pose& p, const polyloc_odometry* odom) {

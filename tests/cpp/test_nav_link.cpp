@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 namespace polyloc::t_nav_link {
@@ -82,6 +83,18 @@ TEST(NavLink, PoseNowIsMapOdomAfterOdometry) {
   EXPECT_NEAR(now.z(), 3 * M_PI / 4, 1e-12);
   const Eigen::Vector3d own = poseNow(p, nullptr);
   EXPECT_EQ(own, Eigen::Vector3d(9, 9, 0));
+}
+
+// Stamps are the writer's word: the controller's clock and the stop's stamp never wrap.
+TEST(NavLink, StampsFarApartDoNotWrap) {
+  constexpr int64_t lo = std::numeric_limits<int64_t>::min() + 1, hi = std::numeric_limits<int64_t>::max();
+  EXPECT_NEAR(secondsBetween(lo, hi), 1.8446744e10, 1e4);  // int64 subtraction would overflow
+  EXPECT_NEAR(secondsBetween(hi, lo), -1.8446744e10, 1e4);
+  EXPECT_DOUBLE_EQ(secondsBetween(1'700'000'000'000'000'000, 1'700'000'001'500'000'000), 1.5);
+  EXPECT_EQ(stopStamp(hi, 5), hi);
+  EXPECT_EQ(stopStamp(1'000, 5), 1'001);
+  EXPECT_EQ(stopStamp(0, 5), 5);  // no command went out: the wall clock
+  EXPECT_EQ(stopStamp(-7, 5), 5);
 }
 
 }  // namespace polyloc::t_nav_link

@@ -28,6 +28,14 @@ std::optional<VrsFrame> decodeVrs(const void* slot, size_t size, std::string* wh
 // motion; odometry fills in between, which lets the robot stop within millimetres of its goal.
 Eigen::Vector3d poseNow(const polyloc_pose& p, const polyloc_odometry* odom);
 
+// Seconds from stamp t0_ns to t_ns, computed without integer overflow (the stamps are the
+// writer's word: two far apart must not wrap the controller's clock).
+double secondsBetween(int64_t t0_ns, int64_t t_ns);
+
+// The stamp of polynav's last stop: just after the last command's (`last_ns`), so that the base
+// takes it as the newest; `now_ns` when no command went out. Saturates instead of wrapping.
+int64_t stopStamp(int64_t last_ns, int64_t now_ns);
+
 struct PoseRead {
   Eigen::Vector3d pose{0, 0, 0};  // x, y, yaw (map)
   bool localised = false;         // polylocd's pose was read and its status is tracking
