@@ -105,7 +105,8 @@ sed -e "s|^map: ../lab.obj|map: $SRC/maps/lab.obj|" -e "s|^rig: ../rigs/lisa.yam
 pids+=($!)
 "$BIN/polynav" --shm "$instance" --grid "$tmp/nav.yaml" --zones maps/nav/lab.yaml --goals "corridor hose cabinet" \
   --quiet --json > "$tmp/polynav.json" 2> "$tmp/polynav.log" &
-pids+=($!)
+nav_pid=$!
+pids+=($nav_pid)
 "$POLYLOC" play --scenario maps/scenarios/lab_nav.yaml --shm "$instance" --drive --rate 100 --duration 12 --json --quiet > "$tmp/drive.json"
 "$PY" - "$tmp/drive.json" <<'PYEOF'
 import json, sys
@@ -116,6 +117,24 @@ assert j["base"]["rejected"] == 0 and not j["collisions"], j
 # 12 s towards the hose cabinet at x = 10.5: it left the start (2.0, 1.75) eastwards.
 assert j["final_pose"][0] > 3.5, j["final_pose"]
 PYEOF
+# Stopped by a signal mid-mission (as a supervisor stops it), polynav's last word is a stop
+# stamped after its last command, which a base takes (one stamped 0 was refused).
+pydir=$BIN/../python
+if [ -d "$pydir/polyloc" ]; then
+  kill -TERM "$nav_pid"
+  wait "$nav_pid" || true
+  PYTHONPATH="$pydir" "$PY" - "$instance" <<'PYEOF'
+import sys
+from polyloc import shm
+seg = shm.Segment.attach(sys.argv[1])
+frames = shm.Reader(seg, "cmd_vel", start="oldest").drain()
+assert len(frames) > 2, frames
+last, before = frames[-1], frames[-2]
+assert last["status"] == "polynav stopped" and last["twist"] == (0.0, 0.0, 0.0), last
+assert last["stamp_ns"] > before["stamp_ns"], (before, last)
+print("stop after SIGTERM:", last["stamp_ns"] - before["stamp_ns"], "ns after the last command")
+PYEOF
+fi
 
 # Errors name what is wrong.
 if "$POLYLOC" play --shm "$instance" --drive --input /dev/null 2> "$tmp/err"; then echo "--drive without scenario ran" >&2; exit 1; fi
