@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # polyloc simulate, as a user types it: 10 s of the lab tour as MCAP with --json (keys, real-time
 # factor > 1), the TUM ground truth and the PNG; the same seed gives the same bytes; a broken
-# scenario gives an error naming file, line and key.
+# scenario gives an error naming file, line and key; --duration 0 is all of the scenario.
 set -Eeuo pipefail
 trap 'rc=$?; echo "${0##*/}:$LINENO: exit $rc from: $BASH_COMMAND" >&2' ERR  # name the line a silent failure stops at
 polyloc=$1 src=$2
@@ -52,3 +52,9 @@ if "$polyloc" simulate --scenario "$tmp/bad.yaml" --out "$tmp/bad.mcap" 2>"$tmp/
 fi
 grep -q "bad.yaml:4:3: unknown key 'route.max_sped'" "$tmp/err"
 echo OK
+# --duration 0 means all of the scenario, as in every command that takes it (a 2 s scenario here).
+printf 'base: %s/maps/scenarios/lab_tour.yaml\nduration: 2\n' "$src" > "$tmp/short.yaml"
+"$polyloc" simulate --scenario "$tmp/short.yaml" --duration 0 --out "$tmp/all0.mcap" --json > "$tmp/all0.json"
+"$polyloc" simulate --scenario "$tmp/short.yaml" --out "$tmp/all.mcap" --json > "$tmp/all.json"
+python3 -c 'import json,sys; a,b=(json.load(open(f)) for f in sys.argv[1:3]); assert a["sim_duration_s"] == b["sim_duration_s"] == 2 and a["topics"] == b["topics"], (a, b)' "$tmp/all0.json" "$tmp/all.json"
+cmp "$tmp/all0.mcap" "$tmp/all.mcap"
