@@ -3,7 +3,8 @@
 # -1e300, inf, nan} in every numeric option of localize, play and polylocd --init, and in every
 # field of SETPOSE against a running polylocd. No process dies of a signal; a value outside its
 # domain is refused with a message naming the option; nothing written before is lost (an
-# existing output stays whole); outputs that are inputs are refused; polylocd lives on.
+# existing output stays whole); outputs that are inputs are refused; polylocd lives on, and 300
+# idle connections to its live port do not keep its control endpoint from answering.
 set -uo pipefail
 POLYLOC=$1
 SRC=$2
@@ -12,7 +13,7 @@ cd "$SRC"
 tmp=$(mktemp -d)
 instance=hostile_$$
 pid=
-trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null; rm -rf "$tmp" /dev/shm/polyloc.$instance /dev/shm/polyloc.${instance}_b' EXIT
+trap '[ -n "$pid" ] && kill -9 $pid 2>/dev/null; rm -rf "$tmp" /dev/shm/polyloc.$instance /dev/shm/polyloc.${instance}_b /dev/shm/polyloc.${instance}_c' EXIT
 VALUES="0 -0 1e-300 1e19 1e300 -1e300 inf nan"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 in_domain() {  # value, lo, hi: finite and within
@@ -140,6 +141,42 @@ j = json.load(open(sys.argv[1]))
 fit = {i["name"]: i["map_fit"] for i in j["inputs"]}
 assert j["unfit"] is False and fit["odom"] is None and fit["scan/s300_front_left"] > 0.5, j
 PYEOF
+kill -TERM $pid
+wait $pid
+pid=
+
+# Idle TCP connections to the live port: 300 of them against a polylocd allowed 128 file
+# descriptors (they once used them all up: "accept failed: Too many open files", the control
+# endpoint stopped answering). Pending connections are bounded; the control endpoint answers.
+lport=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+( ulimit -n 128; exec "$POLYLOCD" --config maps/config/lab.yaml --instance "${instance}_c" --control-port 0 \
+    --live-port "$lport" --init 1.3,1.75,0 --threads 2 2> "$tmp/polylocd_c.log" ) &
+pid=$!
+cport=
+for i in $(seq 100); do
+  cport=$(sed -n 's/.*control endpoint on 127.0.0.1:\([0-9]*\).*/\1/p' "$tmp/polylocd_c.log" | head -1)
+  [ -n "$cport" ] && grep -q "live view on" "$tmp/polylocd_c.log" && break
+  sleep 0.1
+done
+[ -n "$cport" ] || { cat "$tmp/polylocd_c.log" >&2; fail "polylocd (128 descriptors) did not start"; }
+python3 - "$lport" "$POLYLOC" "$cport" <<'PYEOF' || fail "the control endpoint under idle live connections"
+import socket, subprocess, sys, time
+lport, polyloc, cport = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+held = []
+for _ in range(300):
+    try:
+        held.append(socket.create_connection(("127.0.0.1", lport), timeout=2))
+    except OSError:
+        pass  # refused or reset: as good
+time.sleep(0.5)
+for k in range(3):  # three pings while the connections are held
+    r = subprocess.run([polyloc, "ctl", "--port", cport, "ping"], capture_output=True, text=True, timeout=30)
+    assert r.returncode == 0, (k, r.stdout, r.stderr)
+print("control endpoint answered with", len(held), "idle live connections opened")
+PYEOF
+grep -q "max_pending" "$tmp/polylocd_c.log" || { cat "$tmp/polylocd_c.log" >&2; fail "no warning about pending live connections"; }
+if grep -q "Too many open files" "$tmp/polylocd_c.log"; then fail "polylocd ran out of file descriptors"; fi
+kill -0 $pid || fail "polylocd died under idle live connections"
 kill -TERM $pid
 wait $pid
 pid=
