@@ -257,7 +257,7 @@ TEST(Polylocd, ClientsNoticeARestart) {
 // clock: source (docs/failure.md, "Time"): one odometry frame stamped 1e18 ns ahead became "now"
 // and every correct frame after it, on every channel, was refused as stale until a restart; stamps
 // 0 and -5 were taken. Now: the far-future frame and the non-times are refused and counted, the
-// good frames go on; a jump of every input (a recording restarted) moves the clock after a few
+// good frames go on (odometry's corrupt stamps, then a scanner's); a jump of every input (a recording restarted) moves the clock after a few
 // frames, forward and back, and poses come out again.
 TEST(Polylocd, NoSingleStampSetsTheSourceClock) {
   ServiceConfig c = labConfig(uniqueInstance("clock"));
@@ -280,17 +280,20 @@ TEST(Polylocd, NoSingleStampSetsTheSourceClock) {
     wo.write(&o, sizeof o, stamp);
     ++sent;
   };
+  auto scanAt = [&](int64_t stamp) {
+    const polyloc_ranges rh{stamp, beams, 0};
+    std::memcpy(frame.data(), &rh, sizeof rh);
+    for (uint32_t b = 0; b < beams; ++b) {
+      const float r = 1.5f;
+      std::memcpy(frame.data() + offsetof(polyloc_ranges, ranges) + 4 * b, &r, 4);
+    }
+    ws.write(frame.data(), uint32_t(frame.size()), stamp);
+    ++sent;
+  };
   auto good = [&](int n) {  // n pairs of odometry and a scan, 50 ms and 10 cm apart
     for (int k = 0; k < n; ++k, t += 50'000'000, x += 0.1) {
       odometry(t);
-      const polyloc_ranges rh{t + 1'000'000, beams, 0};
-      std::memcpy(frame.data(), &rh, sizeof rh);
-      for (uint32_t b = 0; b < beams; ++b) {
-        const float r = 1.5f;
-        std::memcpy(frame.data() + offsetof(polyloc_ranges, ranges) + 4 * b, &r, 4);
-      }
-      ws.write(frame.data(), uint32_t(frame.size()), rh.stamp_ns);
-      ++sent;
+      scanAt(t + 1'000'000);
     }
   };
   auto taken = [&](const polyloc_health& h) { return h.input[odom].taken + h.input[scan].taken; };
@@ -307,6 +310,15 @@ TEST(Polylocd, NoSingleStampSetsTheSourceClock) {
   good(4);
   h = settle(seg, sent);
   EXPECT_EQ(taken(h), 16u) << "good frames after one corrupt stamp were refused";
+  scanAt(t + 1'000'000'000'000'000'000);  // the same on a sensor's input
+  scanAt(0);
+  scanAt(-5);
+  h = settle(seg, sent);
+  EXPECT_EQ(h.input[scan].rejected_future, 1u);
+  EXPECT_EQ(h.input[scan].rejected_stale, 2u);
+  good(4);
+  h = settle(seg, sent);
+  EXPECT_EQ(taken(h), 24u) << "good frames after one corrupt scan stamp were refused";
 
   for (const int64_t jump : {int64_t(3600) * 1'000'000'000, int64_t(-7200) * 1'000'000'000}) {
     t += jump;
