@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <thread>
 
 // Each test file in a namespace of its own: the suite is compiled in batches (unity build).
@@ -301,24 +302,21 @@ TEST(Polylocd, NoSingleStampSetsTheSourceClock) {
   polyloc_health h = settle(seg, sent);
   ASSERT_EQ(taken(h), 8u);
 
-  odometry(t + 1'000'000'000'000'000'000);  // one corrupt stamp
-  odometry(0);
-  odometry(-5);
-  h = settle(seg, sent);
-  EXPECT_EQ(h.input[odom].rejected_future, 1u);
-  EXPECT_EQ(h.input[odom].rejected_stale, 2u);
-  good(4);
-  h = settle(seg, sent);
-  EXPECT_EQ(taken(h), 16u) << "good frames after one corrupt stamp were refused";
-  scanAt(t + 1'000'000'000'000'000'000);  // the same on a sensor's input
-  scanAt(0);
-  scanAt(-5);
-  h = settle(seg, sent);
-  EXPECT_EQ(h.input[scan].rejected_future, 1u);
-  EXPECT_EQ(h.input[scan].rejected_stale, 2u);
-  good(4);
-  h = settle(seg, sent);
-  EXPECT_EQ(taken(h), 24u) << "good frames after one corrupt scan stamp were refused";
+  // One corrupt stamp on an input (odometry, then a scanner's), and the non-times 0 and -5.
+  auto corrupt = [&](const std::function<void(int64_t)>& send, int input, const char* what) {
+    const uint64_t before = taken(h);
+    send(t + 1'000'000'000'000'000'000);
+    send(0);
+    send(-5);
+    h = settle(seg, sent);
+    EXPECT_EQ(h.input[input].rejected_future, 1u) << what;
+    EXPECT_EQ(h.input[input].rejected_stale, 2u) << what;
+    good(4);
+    h = settle(seg, sent);
+    EXPECT_EQ(taken(h), before + 8) << "good frames after a corrupt " << what << " stamp were refused";
+  };
+  corrupt(odometry, odom, "odometry");
+  corrupt(scanAt, scan, "scan");
 
   for (const int64_t jump : {int64_t(3600) * 1'000'000'000, int64_t(-7200) * 1'000'000'000}) {
     t += jump;
