@@ -185,7 +185,8 @@ typedef struct {
   uint64_t poses, vrs, tracks; /* outputs published */
   double cycle_p50_ms, cycle_p99_ms;  /* over the last 1000 cycles */
   uint32_t inputs;             /* entries in input[] (= input channels, in channel order) */
-  uint32_t flags;              /* bit 0: some input silent; bit 1: localisation lost; bit 2: the scans do not fit the map */
+  uint32_t flags;              /* bit 0: some input silent; bit 1: localisation lost; bit 2: the scans do not fit the map;
+                                  bit 3: a global search runs */
   polyloc_input_health input[POLYLOC_MAX_INPUTS];
 } polyloc_health;
 
