@@ -57,8 +57,10 @@ PoseRead readPoseNow(polyloc_client* c, int odom_ch) {
   } else {
     r.localised = p.status == POLYLOC_POSE_TRACKING;
   }
-  polyloc_odometry odom;
-  const bool have_odom = odom_ch >= 0 && polyloc_read_newest(c, odom_ch, &odom, sizeof odom, nullptr) == POLYLOC_OK;
+  polyloc_odometry odom{};
+  polyloc_frame_info info{};
+  const bool have_odom = odom_ch >= 0 && polyloc_read_newest(c, odom_ch, &odom, sizeof odom, &info) == POLYLOC_OK &&
+                         info.size >= sizeof odom;  // a short frame is not odometry
   r.pose = poseNow(p, have_odom ? &odom : nullptr);
   return r;
 }

@@ -90,9 +90,15 @@ bool InputGate::read() {
   clock_.beginPass();
   // What every channel holds at one instant, and no more: a frame published while this pass
   // reads is newer than all of them (writers publish in stamp order), so the sorted pass never
-  // puts a scan after odometry that came later than it.
-  std::vector<uint64_t> limit(readers_.size());
-  for (size_t i = 0; i < readers_.size(); ++i) limit[i] = readers_[i].available();
+  // puts a scan after odometry that came later than it. The counts are taken twice until both
+  // agree: a frame published between two channels' counts would otherwise be left to the next
+  // pass while one published after it is taken (a read thread pre-empted between the counts).
+  std::vector<uint64_t> limit(readers_.size()), again(readers_.size());
+  for (int tries = 0; tries < 100; ++tries) {
+    for (size_t i = 0; i < readers_.size(); ++i) limit[i] = readers_[i].available();
+    for (size_t i = 0; i < readers_.size(); ++i) again[i] = readers_[i].available();
+    if (limit == again) break;
+  }
   for (size_t i = 0; i < readers_.size(); ++i) {
     std::vector<uint8_t> buf;
     for (uint64_t k = 0; k < limit[i]; ++k) {

@@ -51,10 +51,10 @@ if "$polyloc" simulate --scenario "$tmp/bad.yaml" --out "$tmp/bad.mcap" 2>"$tmp/
   exit 1
 fi
 grep -q "bad.yaml:4:3: unknown key 'route.max_sped'" "$tmp/err"
-echo OK
 # --duration 0 means all of the scenario, as in every command that takes it (a 2 s scenario here).
 printf 'base: %s/maps/scenarios/lab_tour.yaml\nduration: 2\n' "$src" > "$tmp/short.yaml"
 "$polyloc" simulate --scenario "$tmp/short.yaml" --duration 0 --out "$tmp/all0.mcap" --json > "$tmp/all0.json"
 "$polyloc" simulate --scenario "$tmp/short.yaml" --out "$tmp/all.mcap" --json > "$tmp/all.json"
 python3 -c 'import json,sys; a,b=(json.load(open(f)) for f in sys.argv[1:3]); assert a["sim_duration_s"] == b["sim_duration_s"] == 2 and a["topics"] == b["topics"], (a, b)' "$tmp/all0.json" "$tmp/all.json"
 cmp "$tmp/all0.mcap" "$tmp/all.mcap"
+echo OK

@@ -651,6 +651,7 @@ TEST(NavController, PersonOnThePathOnlyTrackedIsKeptClear) { personOnThePath(fal
 struct BlockedRun {
   size_t blocked_max = 0;    // the most cells closed at once
   size_t blocked_later = 0;  // cells closed 6 s after entering room b
+  bool measured = false;     // the run lasted until then
   int state = 0;
 };
 
@@ -669,6 +670,7 @@ BlockedRun runPastABox(const ControllerConfig& cfg) {
     if (in_b < 0 && sim.pose.x() > kWallX1 + 0.5) in_b = sim.t;
     if (in_b >= 0 && sim.t >= in_b + 6.0) {
       r.blocked_later = sim.ctrl.blockedCells();
+      r.measured = true;
       break;
     }
     if (o.state != 1) break;
@@ -684,10 +686,12 @@ TEST(NavController, BlockedCellsOpenAgainAfterTheConfiguredAge) {
   quick.plan.blocked_max_age_s = 2.0;
   const BlockedRun a = runPastABox(quick);
   ASSERT_GT(a.blocked_max, 0u) << "the box was never seen on the path";
+  ASSERT_TRUE(a.measured) << "the run ended before 6 s in room b";
   EXPECT_EQ(a.blocked_later, 0u) << "cells still closed in room b with a 2 s age";
   EXPECT_EQ(a.state, 1) << "the mission should still be under way";
   const BlockedRun d = runPastABox(ControllerConfig{});
   ASSERT_GT(d.blocked_max, 0u);
+  ASSERT_TRUE(d.measured);
   EXPECT_GT(d.blocked_later, 0u) << "cells opened in room b with the default 30 s age";
   EXPECT_THROW(Controller(twoRooms(), twoRoomZones(), [] {
                  ControllerConfig c;

@@ -449,16 +449,26 @@ TEST(Polylocd, PacedUnderACpuHogGivesTheSamePoses) {
   const test::LabTour tour(4);
   constexpr int64_t kWaitNs = 2'000'000'000;
   const Fed fast = feedTour(tour.rec, tour.sim->groundTruth(0), "fast_2t", 2, false, kWaitNs);
-  std::atomic<bool> stop{false};
-  std::vector<std::thread> hog;
-  for (unsigned k = 0; k < std::max(2u, std::thread::hardware_concurrency()); ++k)
-    hog.emplace_back([&] {
-      volatile uint64_t x = 0;
-      while (!stop.load(std::memory_order_relaxed)) x = x * 6364136223846793005ull + 1;
-    });
-  const Fed paced = feedTour(tour.rec, tour.sim->groundTruth(0), "paced_1t", 1, false, kWaitNs, 1.0);
-  stop = true;
-  for (auto& t : hog) t.join();
+  Fed paced;
+  {
+    // Busy loops on every core while the paced feed runs; stopped and joined however it ends.
+    struct Hog {
+      std::atomic<bool> stop{false};
+      std::vector<std::thread> threads;
+      Hog() {
+        for (unsigned k = 0; k < std::max(2u, std::thread::hardware_concurrency()); ++k)
+          threads.emplace_back([this] {
+            volatile uint64_t x = 0;
+            while (!stop.load(std::memory_order_relaxed)) x = x * 6364136223846793005ull + 1;
+          });
+      }
+      ~Hog() {
+        stop = true;
+        for (auto& t : threads) t.join();
+      }
+    } hog;
+    paced = feedTour(tour.rec, tour.sim->groundTruth(0), "paced_1t", 1, false, kWaitNs, 1.0);
+  }
   ASSERT_GT(fast.poses.size(), 20u);
   EXPECT_EQ(paced.poses.size(), fast.poses.size());
   EXPECT_EQ(differing(paced, fast), 0u) << "of " << fast.poses.size() << " poses";

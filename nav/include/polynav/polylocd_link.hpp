@@ -33,7 +33,8 @@ Eigen::Vector3d poseNow(const polyloc_pose& p, const polyloc_odometry* odom);
 double secondsBetween(int64_t t0_ns, int64_t t_ns);
 
 // The stamp of polynav's last stop: just after the last command's (`last_ns`), so that the base
-// takes it as the newest; `now_ns` when no command went out. Saturates instead of wrapping.
+// takes it as the newest; `now_ns` when no command went out. Saturates instead of wrapping (at
+// INT64_MAX, which polylocd never stamps, the base would refuse it as not newer).
 int64_t stopStamp(int64_t last_ns, int64_t now_ns);
 
 struct PoseRead {

@@ -90,7 +90,8 @@ typedef struct {
   uint32_t size;               /* payload bytes */
   uint32_t kind;               /* POLYLOC_KIND_* (= the channel's) */
   int64_t stamp_ns;            /* the data's time (sensor clock = CLOCK_REALTIME of the robot) */
-  int64_t publish_ns;          /* CLOCK_MONOTONIC when it was published (for latency) */
+  int64_t publish_ns;          /* CLOCK_MONOTONIC when it was published: latency, and polylocd's order of
+                                  frames with one stamp (a writer of its own must set it so) */
   uint8_t reserved[32];
 } polyloc_slot_header;         /* 64 bytes */
 
