@@ -25,7 +25,8 @@ std::optional<VrsFrame> decodeVrs(const void* slot, size_t size, std::string* wh
   f.scan.angle_increment = v.angle_increment;
   f.scan.range_max = v.range_max;
   f.scan.ranges.resize(v.count);
-  std::memcpy(f.scan.ranges.data(), static_cast<const char*>(slot) + head, v.count * sizeof(float));
+  if (v.count > 0)  // an empty vector's data() may be null, which memcpy must not get
+    std::memcpy(f.scan.ranges.data(), static_cast<const char*>(slot) + head, v.count * sizeof(float));
   return f;
 }
 
