@@ -198,6 +198,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     fc.max_seen_through = f.getDouble("max_seen_through", fc.max_seen_through, 0, 1);
     fc.min_explained = f.getDouble("min_explained", fc.min_explained, 0, 1);
     fc.smoothing = f.getDouble("smoothing", fc.smoothing, 1e-3, 1);
+    fc.past_share = f.getDouble("past_share", fc.past_share, 0, 2);
     fc.beams_per_scan = beamsPerScan(f, fc.beams_per_scan);
     f.finish();
   }

@@ -42,14 +42,15 @@ GlobalRound GlobalSearch::round(std::span<const RefineScan> scans, const Particl
 }
 
 std::vector<Hypothesis> GlobalSearch::fittingModes(std::span<const RefineScan> scans, const ParticleSet& ps,
-                                                   std::span<const Pose> positions, double heading_window) const {
+                                                   std::span<const Pose> positions, double heading_window,
+                                                   double past_share) const {
   const GlobalHypotheses& h = config_.hypotheses;
   std::vector<Pose> screened;
   if (screen_ && !positions.empty())
     screened = screen_->best(rig_, scans, positions, h.separation, h.separation_yaw, heading_window);
   std::vector<Hypothesis> hyps = refineModes(caster_, rig_, scans, ps, h, config_.refine, screened);
   std::erase_if(hyps, [&](const Hypothesis& x) {
-    return checkFit(exact_, rig_, scans, x.pose, config_.fit.tolerance, config_.fit.beams_per_scan).seenThrough() >
+    return checkFit(exact_, rig_, scans, x.pose, config_.fit.tolerance, config_.fit.beams_per_scan, past_share).seenThrough() >
            config_.fit.max_seen_through;
   });
   return hyps;

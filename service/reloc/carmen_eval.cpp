@@ -83,7 +83,7 @@ void measureFloor(const RealLog& log, const std::vector<size_t>& test, const Rig
     m.floor_std_along.push_back(a.refined ? a.std_along : std::numeric_limits<double>::infinity());
     const RefineScan scan{size_t(sensor), ranges, Pose()};
     auto fit = [&](const Pose& p) {
-      return checkFit(caster, rig, std::span<const RefineScan>(&scan, 1), p, mc.fit.tolerance, mc.fit.beams_per_scan);
+      return checkFit(caster, rig, std::span<const RefineScan>(&scan, 1), p, mc.fit.tolerance, mc.fit.beams_per_scan, mc.fit.past_share);
     };
     auto seen = [&](const Pose& p) { return fit(p).seenThrough(); };
     auto displaced = [&](double d, uint64_t k) {

@@ -57,6 +57,32 @@ TEST(FitCheck, PeopleInFrontShortenBeamsAndContradictNothing) {
   EXPECT_DOUBLE_EQ(fit.seenThrough(), 0.0);
 }
 
+// The map holds what is not there now (a grid of end points keeps every person the mapping run
+// saw, and doors closed then): beams at the right place go past it and end on the wall behind.
+// They are counted apart, not seen through; at a wrong place beams still end where the map has
+// nothing, and the round is contradicted.
+TEST(FitCheck, BeamsPastWhatTheMapHoldsAndIsGoneAreNotSeenThrough) {
+  Room r;  // the scan of the room as it is now
+  Mesh then = asymmetricRoom();
+  mapgen::MeshBuilder b(then);
+  for (const auto& [x, y] : {std::pair{0.4f, 1.0f}, std::pair{0.7f, -0.2f}, std::pair{-0.2f, -0.9f}})
+    b.box({x - 0.2f, y - 0.2f, 0.f}, {x + 0.2f, y + 0.2f, 1.7f}, "person");  // people of the mapping run
+  b.box({-1.35f, -0.6f, 0.f}, {-1.25f, 1.2f, 2.0f}, "door");              // a partition closed then, open now
+  EmbreeCaster map_then(then);
+  const RefineScan s = r.scan();
+  const double share = MclConfig{}.fit.past_share;
+  const ScanFit with = checkFit(map_then, r.rig, std::span(&s, 1), r.truth, 0.3, 0, share);
+  const ScanFit without = checkFit(map_then, r.rig, std::span(&s, 1), r.truth, 0.3, 0);
+  EXPECT_GT(without.seenThrough(), 0.25) << "the phantoms must hide a share of the room for the test to mean anything";
+  EXPECT_EQ(with.past_surface, without.longer);
+  EXPECT_EQ(with.longer, 0u);
+  EXPECT_EQ(with.explained, without.explained);
+  // 1.5 m and 40 deg off, in the same map: beams through its walls end on surfaces only by
+  // chance, and the frame is still contradicted.
+  const ScanFit off = checkFit(map_then, r.rig, std::span(&s, 1), Pose::planar(1.0, -1.0, 1.0), 0.3, 0, share);
+  EXPECT_GT(off.seenThrough(), 0.25) << off.longer << " of " << off.beams;
+}
+
 // A scanner tilted down sees the floor, which a wrong place on the same floor explains as well:
 // its beams are not compared, and do not dilute the level scanner's share seen through walls.
 TEST(FitCheck, TiltedBeamsAreNotCompared) {

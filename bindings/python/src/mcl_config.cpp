@@ -63,7 +63,7 @@ void bindMclConfig(pb::module_& m) {
   {
     using T = FitCheck;
     auto c = pb::class_<T>(m, "FitCheck", "fit: rounds whose beams see through the map contradict the estimate").def(pb::init<>());
-    c POLYLOC_RW(tolerance) POLYLOC_RW(max_seen_through) POLYLOC_RW(beams_per_scan);
+    c POLYLOC_RW(tolerance) POLYLOC_RW(max_seen_through) POLYLOC_RW(beams_per_scan) POLYLOC_RW(past_share);
   }
   {
     using T = MclConfig;

@@ -186,6 +186,9 @@ struct FitCheck {
   double tolerance = 0.3;          // m: a beam this much beyond the map's surface saw through it
   double max_seen_through = 0.25;  // share of the round's beams
   size_t beams_per_scan = 60;      // per frame of the round, evenly spread (0: all)
+  // A frame whose longer beams end on a surface behind, at least this share of them, went past
+  // obstacles the map holds and are gone (fit_check.hpp); above 1: off.
+  double past_share = 0.8;
   // Map fit: the share of the beams the map explains at the estimate (within tolerance),
   // smoothed over rounds (weight of the newest: smoothing). Below min_explained the scans do
   // not fit the map (a wrong map, a wrong building, a far wrong pose): never tracking. Real logs

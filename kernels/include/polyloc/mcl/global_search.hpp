@@ -50,9 +50,12 @@ class GlobalSearch {
 
   // The cloud's modes and the best screened candidates at `positions` (every heading within
   // `heading_window` of theirs; 0: every heading), refined; those whose beams see through the
-  // map's walls are wrong places, however many of their beams found a wall.
+  // map's walls are wrong places, however many of their beams found a wall. past_share as in
+  // checkFit: local recovery near the track passes mcl.fit.past_share; the global round holds a
+  // place to every beam (above 1), as a far place needs the stronger evidence.
   std::vector<Hypothesis> fittingModes(std::span<const RefineScan> scans, const ParticleSet& ps,
-                                       std::span<const Pose> positions, double heading_window = 0) const;
+                                       std::span<const Pose> positions, double heading_window = 0,
+                                       double past_share = 2.0) const;
 
   size_t trackedPlaces() const { return tracked_.size(); }
 

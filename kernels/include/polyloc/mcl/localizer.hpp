@@ -37,7 +37,8 @@ struct MclEstimate {
   size_t particles = 0;
   uint64_t updates = 0;     // measurement updates so far
   bool refined = false;     // pose refined against the mesh (mcl.refine) in this round
-  // Share of the round's beams that ended beyond the map's surface at the estimate (fit_check.hpp)
+  // Share of the round's beams that ended beyond the map's surface, where it has none, at the
+  // estimate (fit_check.hpp: beams past obstacles that are gone are not counted)
   double seen_through = 0;
   bool contradicted = false;  // seen_through above mcl.fit.max_seen_through: the round doubts the estimate
   // Map fit: share of the beams the map explains at the estimate, smoothed over rounds (mcl.fit);
