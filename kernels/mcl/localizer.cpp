@@ -450,8 +450,7 @@ struct Localizer::Impl {
   // The round's frames cast from the estimate in the exact map (fit_check.hpp): do they see
   // through its walls? A contradicted estimate is uncertain at best. Beams past surfaces behind
   // (mcl.fit.past_share) spare a place the track holds, not one the global search offers: that
-  // must fit every beam before the filter commits (along a corridor a wrong place passed with
-  // them: infinite-corridor's end-point map, global 7 of 10 against 9).
+  // must fit every beam before the filter commits (a far place needs the stronger evidence).
   void checkEstimateFit(bool global_round) {
     const double past_share = global_round ? 2.0 : config.fit.past_share;
     const std::vector<RefineScan> scans = roundScans();

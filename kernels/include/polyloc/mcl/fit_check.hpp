@@ -9,12 +9,13 @@
 // place half the beams typically see through.
 // A longer beam whose end point lies on another surface of its ray (within tolerance) went past
 // something the map holds that is not there now: a door open now, a person the mapping run saw
-// (a grid of end points keeps every one). When at least past_share of a frame's longer beams do
-// so, they are counted apart (past_surface), not as seen through: at the right place in
-// freiburg-079's end-point map up to 45 % of the beams went past such things, 93-100 % of them
-// ending on a wall behind, and the resets that set off put the track 19 m off. At a wrong place
-// a beam through a wall ends on another surface only by chance (a third to a half of them in
-// that cluttered map), so the frame's longer beams stay seen through there.
+// (a grid of end points keeps every one). When at least past_share of the longer beams of the
+// scans given do so (the localizer gives one frame at a time), they are counted apart
+// (past_surface), not as seen through: at the right place in freiburg-079's end-point map up to
+// 45 % of the beams went past such things, 93-100 % of them ending on a wall behind, and the
+// resets that set off put the track 19 m off. At a wrong place a beam through a wall ends on
+// another surface only by chance (a third to a half of them in that cluttered map), so the
+// longer beams stay seen through there.
 #pragma once
 
 #include <polyloc/geometry/pose.hpp>
