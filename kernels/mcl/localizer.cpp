@@ -356,7 +356,7 @@ struct Localizer::Impl {
     // kept the filter from searching globally.
     if (track_fit > 0)
       std::erase_if(hyps, [&](const Hypothesis& h) {
-        return checkFit(exact, rig, scans, h.pose, config.fit.tolerance, config.fit.beams_per_scan, config.fit.past_share).explainedShare() <
+        return checkFit(exact, rig, scans, h.pose, config.fit.tolerance, config.fit.beams_per_scan).explainedShare() <
                config.recovery_min_fit * track_fit;
       });
     if (hyps.empty()) return;
