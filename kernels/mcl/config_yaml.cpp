@@ -179,6 +179,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     if (rc.search_yaw < 0 || rc.search_yaw > M_PI) r.value("search_yaw").fail("must be between 0 and 180 deg");
     rc.search_beams = r.getCount("search_beams", rc.search_beams, 0, 100'000);
     rc.search_sigmas = r.getDouble("search_sigmas", rc.search_sigmas, 0, 100);
+    rc.search_spread = r.getBool("search_spread", rc.search_spread);
     rc.max_search_xy = r.getDouble("max_search_xy", rc.max_search_xy, 0, 10);
     rc.max_search_yaw = r.getAngle("max_search_yaw", rc.max_search_yaw);
     if (rc.max_search_yaw < 0 || rc.max_search_yaw > M_PI) r.value("max_search_yaw").fail("must be between 0 and 180 deg");

@@ -25,6 +25,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -498,7 +499,8 @@ struct Localizer::Impl {
       rc.max_correction = std::max(rc.max_correction, rc.search_xy + config.refine.max_correction);
       rc.max_correction_yaw = std::max(rc.max_correction_yaw, rc.search_yaw + config.refine.max_correction_yaw);
     }
-    const RefineResult r = refinePose(caster, rig, scans, est.pose, config.refine.dof ? config.refine.dof : config.dof, rc);
+    const RefineResult r = refinePose(caster, rig, scans, est.pose, config.refine.dof ? config.refine.dof : config.dof, rc,
+                                      config.refine.search_spread ? config.effective_beams : 0.0);
     if (!r.accepted) return void(++counters.refinements_refused);
     bias_step = r.range_bias;
     est.pose = r.pose;
@@ -509,6 +511,11 @@ struct Localizer::Impl {
     // effective_beams of them, as the weighting does (real logs: NEES ~10 without).
     const double dependent = config.effective_beams > 0 ? std::max(1.0, double(r.correspondences) / config.effective_beams) : 1.0;
     refine_cov = dependent * r.covariance;
+    // Where the scans leave the pose free (along a corridor) the search's likelihood is flat or
+    // has several minima, which the Hessian of the one Gauss-Newton found does not show.
+    const std::array<int, 3> planar{0, 1, 5};
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) refine_cov(planar[size_t(a)], planar[size_t(b)]) += r.search_spread(a, b);
     est.refined = true;
     ++counters.refinements;
   }

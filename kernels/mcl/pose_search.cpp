@@ -54,13 +54,15 @@ PoseSearchResult searchPose(const RayCaster& caster, const Rig& rig, std::span<c
   std::vector<float> hits;
   std::vector<Pose> sensor_poses;
   // Scores a grid of (2 nxy + 1)^2 (2 nyaw + 1) candidates around `centre`; keeps the best in res.
-  auto stage = [&](const Pose& centre, double step_xy, double step_yaw, int nxy, int nyaw) {
+  auto stage = [&](const Pose& centre, double step_xy, double step_yaw, int nxy, int nyaw, bool spread) {
     std::vector<Pose> cand;
+    std::vector<Eigen::Vector3d> offset;  // of each candidate from the centre (x, y, yaw)
     for (int i = -nxy; i <= nxy; ++i)
       for (int j = -nxy; j <= nxy; ++j)
         for (int k = -nyaw; k <= nyaw; ++k) {
           Pose c = centre * Pose::planar(0, 0, k * step_yaw);
           cand.push_back(Pose(c.rotation(), c.translation() + Eigen::Vector3d(i * step_xy, j * step_xy, 0)));
+          offset.emplace_back(i * step_xy, j * step_xy, k * step_yaw);
         }
     // A weak pull towards the given pose: where the scans do not decide (along a corridor) the
     // nearest candidate wins, not the first of many that fit alike.
@@ -70,6 +72,7 @@ PoseSearchResult searchPose(const RayCaster& caster, const Rig& rig, std::span<c
       const Pose d = guess.inverse() * cand[c];
       cost[c] = pull * (d.translation().head<2>().squaredNorm() + d.yaw() * d.yaw());
     }
+    const std::vector<double> pulled = cost;
     std::vector<size_t> in(cand.size(), 0);
     for (const ScanBeams& b : sb) {
       const size_t B = b.measured.size();
@@ -90,11 +93,24 @@ PoseSearchResult searchPose(const RayCaster& caster, const Rig& rig, std::span<c
     const size_t best = size_t(std::min_element(cost.begin(), cost.end()) - cost.begin());
     res.pose = cand[best], res.cost = cost[best], res.inliers = in[best];
     res.candidates += cand.size();
+    if (!spread || o.spread_beams <= 0 || o.spread_sigma <= 0) return;
+    // The data alone, tempered as the weighting tempers it; moments about the best candidate.
+    const double scale = std::min(1.0, o.spread_beams / double(res.beams)) / (2 * o.spread_sigma * o.spread_sigma);
+    double data_min = std::numeric_limits<double>::infinity();
+    for (size_t c = 0; c < cand.size(); ++c) data_min = std::min(data_min, cost[c] - pulled[c]);
+    double mass = 0;
+    Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
+    for (size_t c = 0; c < cand.size(); ++c) {
+      const double w = std::exp(-scale * (cost[c] - pulled[c] - data_min));
+      const Eigen::Vector3d d = offset[c] - offset[best];
+      mass += w, m2 += w * d * d.transpose();
+    }
+    res.spread = m2 / mass;  // the offsets are in map x, y and the turn about z already
   };
   // Coarse: the window at the step; fine: +- half a step around the best cell, at a quarter step.
   const int nxy = int(std::ceil(o.window_xy / o.step_xy - 1e-9)), nyaw = int(std::ceil(o.window_yaw / o.step_yaw - 1e-9));
-  stage(guess, o.step_xy, o.step_yaw, nxy, nyaw);
-  stage(res.pose, o.step_xy / 4, o.step_yaw / 4, o.window_xy > 0 ? 2 : 0, o.window_yaw > 0 ? 2 : 0);
+  stage(guess, o.step_xy, o.step_yaw, nxy, nyaw, true);
+  stage(res.pose, o.step_xy / 4, o.step_yaw / 4, o.window_xy > 0 ? 2 : 0, o.window_yaw > 0 ? 2 : 0, false);
   return res;
 }
 

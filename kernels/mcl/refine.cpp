@@ -74,7 +74,7 @@ void subtractRangeBias(std::span<const float> ranges, double bias, float range_m
 }
 
 RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans,
-                        const Pose& map_T_base, int dof, const RefineConfig& cfg) {
+                        const Pose& map_T_base, int dof, const RefineConfig& cfg, double spread_beams) {
   if (dof != 3 && dof != 6) throw std::invalid_argument("refinePose: dof must be 3 or 6");
   RefineResult res;
   res.pose = map_T_base;
@@ -120,8 +120,13 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
 
   // Start from the best cell of a small exhaustive search (pose_search.hpp), if asked.
   Pose T = map_T_base;
-  if (cfg.search_xy > 0 || cfg.search_yaw > 0)
-    T = searchPose(caster, rig, scans, map_T_base, PoseSearch{cfg.search_xy, cfg.search_yaw, cfg.search_step_xy, cfg.search_step_yaw, 0.1, cfg.search_beams, 0.05}).pose;
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+  if (cfg.search_xy > 0 || cfg.search_yaw > 0) {
+    const PoseSearch ps{cfg.search_xy, cfg.search_yaw, cfg.search_step_xy, cfg.search_step_yaw, 0.1, cfg.search_beams, 0.05,
+                        spread_beams, cfg.huber};
+    const PoseSearchResult found = searchPose(caster, rig, scans, map_T_base, ps);
+    T = found.pose, spread = found.spread;
+  }
   Eigen::MatrixXd H(n_par, n_par);
   double last_step = std::numeric_limits<double>::infinity();
   bool converged = false;
@@ -245,6 +250,7 @@ RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const
   for (int a = 0; a < n_pose; ++a)
     for (int b = 0; b < n_pose; ++b) c(param(a), param(b)) = var * Hinv(a, b);
   res.covariance = toEulerCovariance(T, c);
+  res.search_spread = spread;
   res.pose = T;
   if (n_par > n_pose) res.range_bias = bias, res.range_bias_std = std::sqrt(var * Hinv(n_pose, n_pose));
   res.accepted = true;

@@ -131,6 +131,32 @@ TEST(PoseSearch, ScoresLevelBeamsOnly) {
   EXPECT_EQ(tilted.beams, PoseSearch{}.beams_per_scan);  // no level beam: all of them
 }
 
+// The spread of the search's likelihood (Olson's covariance from the scores): along a bare
+// corridor the scans do not fix the position and the spread is as wide as the window; across it,
+// and in a room, it is a cell or less. The Hessian of one minimum says neither.
+TEST(PoseSearch, SpreadIsWideAlongACorridorAndTightInARoom) {
+  Mesh m = boxRoom(10.f, 1.f, 2.5f, 0.2f);  // 20 m by 2 m, its ends beyond the scanner's range
+  const EmbreeCaster caster(m);
+  const Rig rig = scannerRig(6.0);
+  const Pose truth = Pose::planar(0.3, 0.1, 0.05);
+  const std::vector<float> ranges = simulateScan(caster, rig.sensors[0], truth, 0.01, 1);
+  const RefineScan s{0, ranges, Pose()};
+  PoseSearch o;
+  o.window_xy = 0.3;
+  o.spread_beams = 18;
+  const PoseSearchResult corridor = searchPose(caster, rig, std::span(&s, 1), truth, o);
+  EXPECT_GT(std::sqrt(corridor.spread(0, 0)), 0.12);  // flat over +-0.3 m: 0.17 m std for a uniform
+  EXPECT_LT(std::sqrt(corridor.spread(1, 1)), 0.02);
+  EXPECT_LT(std::sqrt(corridor.spread(2, 2)), deg2rad(0.6));
+  Room r;
+  const RefineScan rs = r.scan();
+  const PoseSearchResult room = searchPose(r.caster, r.rig, std::span(&rs, 1), r.truth, o);
+  EXPECT_LT(std::sqrt(room.spread(0, 0)), 0.02);
+  EXPECT_LT(std::sqrt(room.spread(1, 1)), 0.02);
+  o.spread_beams = 0;
+  EXPECT_TRUE(searchPose(caster, rig, std::span(&s, 1), truth, o).spread.isZero());
+}
+
 // A room extruded from a 5 cm grid whose walls run at 30 deg to the cells: steps of cells, the
 // correspondences' normals flip between iterations. The refinement still settles within a cell.
 TEST(Refine, SettlesOnAStaircaseWall) {

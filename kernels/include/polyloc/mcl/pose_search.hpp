@@ -14,6 +14,8 @@
 #include <polyloc/raycast/ray_caster.hpp>
 #include <polyloc/sensors/rig.hpp>
 
+#include <Eigen/Core>
+
 #include <cstddef>
 #include <span>
 
@@ -30,6 +32,12 @@ struct PoseSearch {
   // that where the scans do not decide (along a corridor) the nearest candidate wins. 0.05: an
   // offset of 10 cm costs what a residual of 2.2 cm does.
   double pull = 0.05;
+  // The data's likelihood over the coarse grid, exp(-cost / (2 spread_sigma^2)) with the beams
+  // counted as spread_beams (the pull left out), gives the result's spread, as Olson's
+  // correlative matcher takes its covariance from the scores: the Hessian of one minimum says
+  // nothing of a flat or many-minima landscape (along a corridor). 0: not computed.
+  double spread_beams = 0;
+  double spread_sigma = 0.03;  // m: a residual's std
 };
 
 struct PoseSearchResult {
@@ -37,6 +45,9 @@ struct PoseSearchResult {
   double cost = 0;         // its sum of truncated squared residuals and pull (m^2)
   size_t beams = 0, inliers = 0;  // beams scored; of them within `truncate`
   size_t candidates = 0;
+  // Second moment (x, y, yaw in map axes) of that likelihood about the best coarse candidate:
+  // how far from the chosen pose the scans would put it (zero when not computed).
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
 };
 
 // scans as refinePose takes them. Candidates move the pose in the map's x, y and turn it about

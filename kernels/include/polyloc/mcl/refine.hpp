@@ -47,6 +47,9 @@ struct RefineResult {
   bool accepted = false;
   double range_bias = 0;       // m, estimated with config.range_bias (else 0): add it to the bias applied
   double range_bias_std = 0;   // m
+  // (x, y, yaw, map axes) the pose search's likelihood spread about its best candidate
+  // (PoseSearchResult::spread); zero without a search or spread_beams.
+  Eigen::Matrix3d search_spread = Eigen::Matrix3d::Zero();
   std::string reason;  // why not accepted ("" when accepted)
 };
 
@@ -56,7 +59,8 @@ void subtractRangeBias(std::span<const float> ranges, double bias, float range_m
 
 // scans: the latest scan of each sensor (any subset of the rig; one sensor may appear twice).
 // dof: 3 (x, y, yaw) or 6. Throws std::invalid_argument for a bad sensor index or dof.
+// spread_beams: the search's beams counted as this many for its spread (0: none computed).
 RefineResult refinePose(const RayCaster& caster, const Rig& rig, std::span<const RefineScan> scans,
-                        const Pose& map_T_base, int dof, const RefineConfig& config);
+                        const Pose& map_T_base, int dof, const RefineConfig& config, double spread_beams = 0);
 
 }  // namespace polyloc
