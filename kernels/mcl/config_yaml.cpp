@@ -121,6 +121,7 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
   c.body_height = m.getDouble("body_height", c.body_height, 0, 100);
   c.blocked_max_mass = m.getDouble("blocked_max_mass", c.blocked_max_mass, 0, 1);
   c.uncertain_xy = m.getDouble("uncertain_xy", c.uncertain_xy, 0, kBig);
+  c.tracking_radius = m.getDouble("tracking_radius", c.tracking_radius, 0, kBig);
   c.uncertain_yaw = m.getAngle("uncertain_yaw", c.uncertain_yaw);
   c.seed = uint64_t(m.getCount("seed", size_t(c.seed), 0, size_t(std::numeric_limits<int64_t>::max())));
   c.threads = int(m.getCount("threads", size_t(c.threads), 0, 4096));  // 0 = all cores

@@ -404,8 +404,10 @@ struct Localizer::Impl {
     if (est.refined) est.covariance += refine_cov;
     setPlanarCovariance(est.covariance, pose_cov.covariance());
     const Eigen::Matrix3d& p = pose_cov.covariance();
+    // 3.035 std: the radius that holds a 2-D Gaussian at 99 % when both axes have the worst std.
+    const bool beyond_radius = config.tracking_radius > 0 && 3.035 * maxPositionStd(p) > config.tracking_radius;
     if (est.status == MclStatus::Tracking &&
-        (maxPositionStd(p) > config.uncertain_xy || std::sqrt(p(2, 2)) > config.uncertain_yaw || est.inconsistent))
+        (maxPositionStd(p) > config.uncertain_xy || beyond_radius || std::sqrt(p(2, 2)) > config.uncertain_yaw || est.inconsistent))
       est.status = MclStatus::Uncertain;
   }
 

@@ -142,6 +142,51 @@ TEST(PoseCovariance, TheGateFloorForgivesCentimetresNotDecimetres) {
   EXPECT_GT(nis(0.30, floor), cfg.innovation_gate);
 }
 
+// Along a bare corridor (its ends beyond the scanner's range) odometry 6 % long walks the estimate
+// off along it and no scan can tell. `tracking` promises the truth within mcl.tracking_radius:
+// the carried covariance (the fit's Hessian plus the search's flat spread along the corridor,
+// and the odometry's noise piling up) says when that no longer holds. Here the cloud's own
+// spread, which in a bare corridor says so too, is set aside (uncertain_xy 10 m): on a real log
+// the cloud had collapsed on door frames while a frame 0.54 m off was published tracking.
+TEST(PoseCovariance, TrackingPromisesTheRadiusAlongABareCorridor) {
+  Mesh mesh = boxRoom(20.f, 1.f, 2.5f, 0.2f);
+  const EmbreeCaster caster(mesh);
+  const Rig rig = scannerRig(6.0);
+  auto run = [&](double radius) {
+    MclConfig cfg;
+    cfg.tracking_radius = radius;
+    cfg.uncertain_xy = 10;
+    cfg.relocalize_rounds = 0;
+    Localizer loc(caster, mesh, rig, cfg);
+    const Pose start = Pose::planar(-13, 0.1, 0);
+    loc.initPose(start, planarCov(0.05, 0.05), 0);
+    size_t beyond = 0, tracking = 0;
+    double worst = 0;
+    for (int i = 0; i < 50; ++i) {
+      const Pose truth = Pose::planar(-13 + 0.5 * i, 0.1, 0);
+      const int64_t t = int64_t(i) * 200'000'000;
+      loc.addOdometry(t, Pose::planar(0.53 * i, 0, 0));  // 6 % longer than the true steps
+      loc.addScan(0, t, simulateScan(caster, rig.sensors[0], truth, 0.01, uint64_t(i)));
+      const double err = posErr(loc.estimate().pose, truth);
+      worst = std::max(worst, err);
+      if (loc.estimate().status != MclStatus::Tracking) continue;
+      ++tracking;
+      beyond += err > 0.5;
+      const Eigen::Matrix<double, 6, 6>& c = loc.estimate().covariance;
+      Eigen::Matrix3d xy = Eigen::Matrix3d::Zero();
+      xy.topLeftCorner<2, 2>() = c.topLeftCorner<2, 2>();
+      if (radius > 0) EXPECT_LE(3.035 * maxPositionStd(xy), radius) << i;  // the promise, frame by frame
+    }
+    return std::make_tuple(beyond, tracking, worst);
+  };
+  const auto [beyond, tracking, worst] = run(MclConfig{}.tracking_radius);
+  EXPECT_GT(worst, 1.0);  // the corridor cannot stop the drift ...
+  EXPECT_EQ(beyond, 0u);  // ... and no frame beyond 0.5 m says tracking
+  const auto [beyond_off, tracking_off, worst_off] = run(0.0);
+  EXPECT_GT(beyond_off, 0u);  // without the radius (and uncertain_xy out of the way) some do
+  EXPECT_GT(tracking_off, tracking);
+}
+
 TEST(LocalRecovery, AHeadingErrorTheCloudCannotFollowIsFoundAgain) {
   // Tracking well, then one odometry step that claims 50 deg less turn than the robot made (a
   // wheel slipping in a turn): the cloud (5 %/rad noise) cannot cover it; local recovery screens
