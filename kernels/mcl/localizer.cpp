@@ -97,6 +97,7 @@ struct Localizer::Impl {
     est.odometry_scale_rotation = odo_noise.rotationScale();
     round.reset();
     policy.reset();
+    beyond_radius = false;
     std::fill(w_slow.begin(), w_slow.end(), 0.0);
     std::fill(w_fast.begin(), w_fast.end(), 0.0);
     odom_at_update = odom_at_predict = odom_at_round = scan_odom = odometry.at(stamp);
@@ -192,7 +193,7 @@ struct Localizer::Impl {
     if (config.dof == 3) floor.snapToFloor(ps);
     loglik.assign(ps.size(), 0.0);
     SensorModel& model = *model_of[sensor];
-    const bool coarse = est.status != MclStatus::Tracking || policy.coarse();
+    const bool coarse = (est.status != MclStatus::Tracking && !beyond_radius) || policy.coarse();
     const SensorFrame frame{sensor, stamp, ranges, scan_odom, step, coarse};
     const size_t used = model.weigh(ps, frame, loglik);
     if (used == 0) return false;
@@ -256,6 +257,10 @@ struct Localizer::Impl {
     // blinded by a person standing in front of it).
     const bool lost = round.collapsed > 0 || 2 * round.lost > round.sensors;
     const MclEstimate before = est;
+    // The filter's view of the last round: tracking, also when only tracking_radius published it
+    // uncertain (a promise to the controller; the weighting, the jump and innovation checks go on).
+    const bool was_tracking = before.status == MclStatus::Tracking || beyond_radius;
+    beyond_radius = false;
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
     if (best_hypothesis && est.status != MclStatus::Tracking) est.pose = *best_hypothesis;
     // Where the last estimate would be now by odometry; a tracked estimate far from it was taken
@@ -263,11 +268,11 @@ struct Localizer::Impl {
     const Pose predicted = before.pose * (odom_at_round.inverse() * odom_at_predict);
     odom_at_round_prev = odom_at_round;
     odom_at_round = odom_at_predict;
-    bool jumped = policy.jumped(before.status == MclStatus::Tracking, global_round, est.pose, predicted);
+    bool jumped = policy.jumped(was_tracking, global_round, est.pose, predicted);
     if (config.refine.enabled) refineEstimate(predictionCovariance(before));
     checkEstimateFit(global_round);
     learnOdometryNoise();
-    trackCovariance(before, global_round);
+    trackCovariance(before, global_round, was_tracking);
     est.recovered = false;
     // The estimate could not be pinned against the map, or nothing explains the scans: search
     // near the prediction. A round that is only contradicted (beams seen through the map) but
@@ -284,7 +289,7 @@ struct Localizer::Impl {
     // is found again locally (real logs, 10 %/2 deg per m drift: a global reset from a good
     // track cost 27 m for five rounds).
     if (est.recovered) jumped = false;
-    flagJump(before, predicted);
+    flagJump(was_tracking, predicted);
     policy.extendGlobal(global_round, est.contradicted, est.refined, ambiguous);
     if (policy.relocalize(jumped, est.contradicted, est.refined)) {
       drawUniform(kRelocStream + step);
@@ -301,6 +306,8 @@ struct Localizer::Impl {
     if (global_round && policy.coarse() && config.hypotheses.count > 0 && config.hypotheses.fresh > 0 &&
         counters.relocalizations == reloc_at_round)
       addFresh();
+    beyond_radius = beyond_radius && est.status == MclStatus::Tracking;
+    if (beyond_radius) est.status = MclStatus::Uncertain;
     est.particles = ps.size();
     round.clear();
   }
@@ -381,7 +388,7 @@ struct Localizer::Impl {
   // cannot tell which: real logs, 10 % drift, a fit 0.5 m along a corridor from the truth, 7 std
   // from the prediction, was published as tracking) or a tracked std beyond uncertain_xy /
   // uncertain_yaw is not tracking.
-  void trackCovariance(const MclEstimate& before, bool global_round) {
+  void trackCovariance(const MclEstimate& before, bool global_round, bool was_tracking) {
     est.inconsistent = false;
     const Eigen::Matrix3d cloud = planarCovariance(est.covariance);
     const Eigen::Matrix3d fit = planarCovariance(refine_cov);
@@ -395,7 +402,7 @@ struct Localizer::Impl {
       const double nis = pose_cov.update(before.pose, odom_at_round_prev.inverse() * odom_at_predict, odo_noise.scaled(config.motion),
                                          est.pose, measured,
                                          {config.innovation_floor_xy, config.innovation_floor_xy, config.innovation_floor_yaw});
-      est.inconsistent = config.innovation_gate > 0 && before.status == MclStatus::Tracking && nis > config.innovation_gate;
+      est.inconsistent = config.innovation_gate > 0 && was_tracking && nis > config.innovation_gate;
       counters.inconsistent += est.inconsistent;
       if (!cloud_measures) pose_cov.restart(pose_cov.covariance() + cloud);
     }
@@ -404,11 +411,12 @@ struct Localizer::Impl {
     if (est.refined) est.covariance += refine_cov;
     setPlanarCovariance(est.covariance, pose_cov.covariance());
     const Eigen::Matrix3d& p = pose_cov.covariance();
-    // 3.035 std: the radius that holds a 2-D Gaussian at 99 % when both axes have the worst std.
-    const bool beyond_radius = config.tracking_radius > 0 && 3.035 * maxPositionStd(p) > config.tracking_radius;
     if (est.status == MclStatus::Tracking &&
-        (maxPositionStd(p) > config.uncertain_xy || beyond_radius || std::sqrt(p(2, 2)) > config.uncertain_yaw || est.inconsistent))
+        (maxPositionStd(p) > config.uncertain_xy || std::sqrt(p(2, 2)) > config.uncertain_yaw || est.inconsistent))
       est.status = MclStatus::Uncertain;
+    // 3.035 std: the radius that holds a 2-D Gaussian at 99 % when both axes have the worst std.
+    // Applied when the round ends (closeRound), to the published status only.
+    beyond_radius = config.tracking_radius > 0 && 3.035 * maxPositionStd(p) > config.tracking_radius;
   }
 
   // The prediction's uncertainty (x, y, yaw): the last estimate's and the motion since the last
@@ -441,9 +449,9 @@ struct Localizer::Impl {
 
   // A tracked pose that moved more than mcl.max_jump beyond the odometry since the last one
   // jumped: this round says so in its status.
-  void flagJump(const MclEstimate& before, const Pose& predicted) {
+  void flagJump(bool was_tracking, const Pose& predicted) {
     est.jumped = false;
-    if (config.max_jump <= 0 || before.status != MclStatus::Tracking) return;
+    if (config.max_jump <= 0 || !was_tracking) return;
     if ((est.pose.translation() - predicted.translation()).head<2>().norm() <= config.max_jump) return;
     est.jumped = true;
     ++counters.jumps;
@@ -565,6 +573,8 @@ struct Localizer::Impl {
   std::vector<double> w_slow, w_fast;  // augmented MCL likelihood averages, per rig sensor
   size_t current = 0;                  // sensor of the last update
   GlobalSearch search;       // global localisation's places (and local recovery's candidates)
+  // The last round was published uncertain by mcl.tracking_radius alone: the filter goes on as tracking.
+  bool beyond_radius = false;
   bool ambiguous = false;    // the round's refined modes (global localisation) found several places
   std::optional<Pose> best_hypothesis;  // the best tracked place of this global round
 };
