@@ -25,7 +25,6 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -523,9 +522,7 @@ struct Localizer::Impl {
     refine_cov = dependent * r.covariance;
     // Where the scans leave the pose free (along a corridor) the search's likelihood is flat or
     // has several minima, which the Hessian of the one Gauss-Newton found does not show.
-    const std::array<int, 3> planar{0, 1, 5};
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) refine_cov(planar[size_t(a)], planar[size_t(b)]) += r.search_spread(a, b);
+    setPlanarCovariance(refine_cov, planarCovariance(refine_cov) + r.search_spread);
     est.refined = true;
     ++counters.refinements;
   }

@@ -96,12 +96,13 @@ PoseSearchResult searchPose(const RayCaster& caster, const Rig& rig, std::span<c
     if (!spread || o.spread_beams <= 0 || o.spread_sigma <= 0) return;
     // The data alone, tempered as the weighting tempers it; moments about the best candidate.
     const double scale = std::min(1.0, o.spread_beams / double(res.beams)) / (2 * o.spread_sigma * o.spread_sigma);
-    double data_min = std::numeric_limits<double>::infinity();
-    for (size_t c = 0; c < cand.size(); ++c) data_min = std::min(data_min, cost[c] - pulled[c]);
+    std::vector<double> data(cand.size());
+    for (size_t c = 0; c < cand.size(); ++c) data[c] = cost[c] - pulled[c];
+    const double data_min = *std::min_element(data.begin(), data.end());
     double mass = 0;
     Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
     for (size_t c = 0; c < cand.size(); ++c) {
-      const double w = std::exp(-scale * (cost[c] - pulled[c] - data_min));
+      const double w = std::exp(-scale * (data[c] - data_min));
       const Eigen::Vector3d d = offset[c] - offset[best];
       mass += w, m2 += w * d * d.transpose();
     }
