@@ -215,6 +215,8 @@ MclConfig parseMclConfig(ConfigMap m, const Rig* rig, const MclConfig& defaults)
     gh.spread_yaw = h.getAngle("spread_yaw", gh.spread_yaw);
     gh.min_inlier_ratio = h.getDouble("min_inlier_ratio", gh.min_inlier_ratio, 0, 1);
     gh.ratio_margin = h.getDouble("ratio_margin", gh.ratio_margin, 0, 1);
+    gh.lead = h.getDouble("lead", gh.lead, 0, 100);
+    gh.drop = h.getDouble("drop", gh.drop, 0, 1000);
     gh.max_correction = h.getDouble("max_correction", gh.max_correction, 0, 100);
     gh.max_correction_yaw = h.getAngle("max_correction_yaw", gh.max_correction_yaw);
     gh.beams_per_scan = beamsPerScan(h, gh.beams_per_scan);

@@ -24,30 +24,31 @@ GlobalRound GlobalSearch::round(std::span<const RefineScan> scans, const Particl
   if (scans.empty()) return r;
   if (screen_ && screen_positions_.empty())
     screen_positions_ = floor.sampleFree(config_.hypotheses.screen.positions, rng, screen_stream);
-  r.hypotheses = fittingModes(scans, ps, screen_positions_);
-  size_t places = 0;
-  for (size_t i = 0; i < r.hypotheses.size(); ++i) {
-    bool distinct = true;
-    for (size_t k = 0; k < i && distinct; ++k) distinct = !samePlace(r.hypotheses[i].pose, r.hypotheses[k].pose);
-    places += distinct;
-  }
-  // More than one distinct place fits alike (a corridor seen both ways, twin rooms).
-  r.ambiguous = places > 1;
-  // Matched to the places of earlier rounds, moved by the odometry since.
+  // The places of earlier rounds are refined again where odometry carried them: a place is kept
+  // by its own fit, not by the chance that this round's modes or screen land near it again.
   if (tracked_.empty()) tracked_odom_ = odom;
-  trackPlaces(tracked_, r.hypotheses, tracked_odom_.inverse() * odom);
+  const Pose moved = tracked_odom_.inverse() * odom;
+  std::vector<Pose> carried;
+  for (const TrackedPlace& t : tracked_) carried.push_back(t.pose * moved);
+  r.hypotheses = fittingModes(scans, ps, screen_positions_, 0, 2.0, carried);
+  const GlobalHypotheses& h = config_.hypotheses;
+  // The residuals' std: half the refinement's inlier gate.
+  trackPlaces(tracked_, r.hypotheses, moved, h.lead, h.drop, 0.5 * config_.refine.max_correspondence);
   tracked_odom_ = odom;
+  // Several places fit alike over the rounds so far (a corridor seen both ways, twin rooms).
+  r.ambiguous = contested(tracked_, h.lead);
   if (const TrackedPlace* best = bestPlace(tracked_)) r.best = best->pose;
   return r;
 }
 
 std::vector<Hypothesis> GlobalSearch::fittingModes(std::span<const RefineScan> scans, const ParticleSet& ps,
                                                    std::span<const Pose> positions, double heading_window,
-                                                   double past_share) const {
+                                                   double past_share, std::span<const Pose> also) const {
   const GlobalHypotheses& h = config_.hypotheses;
   std::vector<Pose> screened;
   if (screen_ && !positions.empty())
     screened = screen_->best(rig_, scans, positions, h.separation, h.separation_yaw, heading_window);
+  screened.insert(screened.end(), also.begin(), also.end());
   std::vector<Hypothesis> hyps = refineModes(caster_, rig_, scans, ps, h, config_.refine, screened);
   std::erase_if(hyps, [&](const Hypothesis& x) {
     return checkFit(exact_, rig_, scans, x.pose, config_.fit.tolerance, config_.fit.beams_per_scan, past_share).seenThrough() >

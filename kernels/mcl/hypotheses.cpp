@@ -90,27 +90,48 @@ bool samePlace(const Pose& a, const Pose& b) {
   return (a.translation() - b.translation()).head<2>().norm() <= 1.0 && std::abs(angleDiff(a.yaw(), b.yaw())) <= 0.5;
 }
 
-void trackPlaces(std::vector<TrackedPlace>& places, std::span<const Hypothesis> hyps, const Pose& moved) {
+double evidence(const Hypothesis& h, double sigma) {
+  return sigma > 0 ? h.inlier_ratio * std::exp(-0.5 * (h.rms / sigma) * (h.rms / sigma)) : h.inlier_ratio;
+}
+
+void trackPlaces(std::vector<TrackedPlace>& places, std::span<const Hypothesis> hyps, const Pose& moved, double lead,
+                 double drop, double sigma) {
   for (TrackedPlace& t : places) t.pose = t.pose * moved;
+  double leader = INFINITY, best = 0;
+  for (const TrackedPlace& t : places) leader = std::min(leader, t.deficit);
+  if (!std::isfinite(leader)) leader = 0;
+  for (const Hypothesis& h : hyps) best = std::max(best, evidence(h, sigma));
   std::vector<double> gain(places.size(), 0.0);
   for (const Hypothesis& h : hyps) {
     size_t k = 0;
     while (k < places.size() && !samePlace(places[k].pose, h.pose)) ++k;
-    if (k == places.size()) places.push_back({h.pose, 0.0, 0}), gain.push_back(0.0);
-    if (h.inlier_ratio > gain[k]) gain[k] = h.inlier_ratio, places[k].pose = h.pose;
+    if (k == places.size()) places.push_back({h.pose, leader + lead, 0, 0}), gain.push_back(0.0);
+    if (evidence(h, sigma) > gain[k]) gain[k] = evidence(h, sigma), places[k].pose = h.pose;
   }
   for (size_t k = 0; k < places.size(); ++k) {
-    places[k].score += gain[k];
-    places[k].missed = gain[k] > 0 ? 0 : places[k].missed + 1;
+    TrackedPlace& t = places[k];
+    t.deficit += gain[k] > 0 ? best - gain[k] : lead;
+    t.rounds += gain[k] > 0;
+    t.missed = gain[k] > 0 ? 0 : t.missed + 1;
   }
-  std::erase_if(places, [](const TrackedPlace& t) { return t.missed >= 2; });
+  const TrackedPlace* first = bestPlace(places);
+  const double limit = first ? first->deficit + drop : 0;
+  std::erase_if(places, [&](const TrackedPlace& t) { return t.deficit > limit; });
 }
 
 const TrackedPlace* bestPlace(std::span<const TrackedPlace> places) {
   const TrackedPlace* best = nullptr;
   for (const TrackedPlace& t : places)
-    if (!best || t.score > best->score) best = &t;
+    if (!best || t.deficit < best->deficit) best = &t;
   return best;
+}
+
+bool contested(std::span<const TrackedPlace> places, double lead) {
+  const TrackedPlace* best = bestPlace(places);
+  if (!best) return false;
+  for (const TrackedPlace& t : places)
+    if (&t != best && !samePlace(t.pose, best->pose) && t.deficit < best->deficit + lead) return true;
+  return false;
 }
 
 }  // namespace polyloc

@@ -261,7 +261,8 @@ struct Localizer::Impl {
     const bool was_tracking = before.status == MclStatus::Tracking || beyond_radius;
     beyond_radius = false;
     refreshEstimate(lost ? std::optional<MclStatus>(MclStatus::Lost) : std::nullopt);
-    if (best_hypothesis && est.status != MclStatus::Tracking) est.pose = *best_hypothesis;
+    // While the global search goes on its leading place is the estimate, whatever the cloud says.
+    if (best_hypothesis) est.pose = *best_hypothesis;
     // Where the last estimate would be now by odometry; a tracked estimate far from it was taken
     // over by injected particles.
     const Pose predicted = before.pose * (odom_at_round.inverse() * odom_at_predict);
@@ -307,6 +308,11 @@ struct Localizer::Impl {
       addFresh();
     beyond_radius = beyond_radius && est.status == MclStatus::Tracking;
     if (beyond_radius) est.status = MclStatus::Uncertain;
+    // Never tracking before the global search has committed: a place the rounds so far cannot
+    // tell from another is a guess (real logs: infinite-corridor published tracking 239 m off
+    // in the second round after a uniform prior).
+    if (global_round && (policy.coarse() || ambiguous) && est.status == MclStatus::Tracking)
+      est.status = MclStatus::Uncertain;
     est.particles = ps.size();
     round.clear();
   }

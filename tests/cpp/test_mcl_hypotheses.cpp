@@ -92,28 +92,52 @@ TEST(MclHypotheses, BlockedParticlesHoldingMostWeightAreKept) {
 }
 
 // Along a corridor every round finds several places; the one that keeps fitting as the robot
-// moves outscores a better single fit elsewhere, and a place missed twice is dropped.
+// moves leads a better single fit elsewhere, which must out-fit it again to take the lead; a place
+// not found falls behind.
 TEST(MclHypotheses, TrackedPlacesAccumulateAndFollowOdometry) {
   std::vector<TrackedPlace> places;
+  const double lead = 0.2, drop = 0.6;
   const Pose step = Pose::planar(1.0, 0, 0);  // the robot drove 1 m ahead between rounds
   // Round 1: the truth at (0, 0) and a wrong place at (10, 5), heading +x.
-  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(0, 0, 0), 0.85, 0.03}, {Pose::planar(10, 5, 0), 0.8, 0.03}}, Pose());
+  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(0, 0, 0), 0.85, 0.03}, {Pose::planar(10, 5, 0), 0.8, 0.03}}, Pose(), lead, drop);
   ASSERT_EQ(places.size(), 2u);
+  EXPECT_TRUE(contested(places, lead));  // 0.05 apart after one round
   // Rounds 2 and 3: the truth found again 1 m on (a few cm off the odometry), the wrong place not;
-  // a new place fits better than either in round 3 alone.
-  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(1.03, 0.02, 0.01), 0.9, 0.03}}, step);
-  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(2.0, 0, 0), 0.88, 0.03}, {Pose::planar(-20, 3, 3.0), 0.97, 0.02}}, step);
-  ASSERT_EQ(places.size(), 2u);  // (10, 5) missed twice: dropped
+  // a newcomer fits better than the truth in round 3 alone.
+  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(1.03, 0.02, 0.01), 0.9, 0.03}}, step, lead, drop);
+  EXPECT_FALSE(contested(places, lead));  // the wrong place missed a round: 0.25 behind
+  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(2.0, 0, 0), 0.88, 0.03}, {Pose::planar(-20, 3, 3.0), 0.97, 0.02}}, step, lead, drop);
+  // (10, 5) missed twice: 0.65, 0.36 behind the leader, kept (forgotten beyond `drop`).
+  ASSERT_EQ(places.size(), 3u);
+  EXPECT_NEAR(places[1].deficit, lead + 0.05 + lead + lead, 1e-9);
+  EXPECT_EQ(places[1].missed, 2u);
   const TrackedPlace* best = bestPlace(places);
   ASSERT_NE(best, nullptr);
   EXPECT_NEAR(best->pose.x(), 2.0, 1e-9);
-  EXPECT_NEAR(best->score, 0.85 + 0.9 + 0.88, 1e-9);
+  EXPECT_NEAR(best->deficit, lead + 0.0 + 0.0 + (0.97 - 0.88), 1e-9);
+  EXPECT_EQ(best->rounds, 3u);
   EXPECT_EQ(best->missed, 0u);
-  // Unmatched this round: carried by odometry.
-  trackPlaces(places, {}, step);
+  // The newcomer joined `lead` behind the leader of round 2 (0.2) and fitted best: 0.4 against
+  // 0.29, within the lead, contested.
+  EXPECT_TRUE(contested(places, lead));
+  // Unmatched this round: carried by odometry, every place a lead further behind.
+  trackPlaces(places, {}, step, lead, drop);
   EXPECT_NEAR(bestPlace(places)->pose.x(), 3.0, 1e-9);
   EXPECT_EQ(bestPlace(places)->missed, 1u);
   EXPECT_EQ(bestPlace(std::vector<TrackedPlace>{}), nullptr);
+  EXPECT_FALSE(contested(std::vector<TrackedPlace>{}, lead));
+}
+
+// A place far behind is forgotten; two fits of one place never contest each other.
+TEST(MclHypotheses, PlacesFarBehindAreDroppedAndOnePlaceIsNoContest) {
+  std::vector<TrackedPlace> places{{Pose::planar(0, 0, 0), 0.0, 3, 0}, {Pose::planar(30, 0, 0), 0.5, 3, 0}};
+  trackPlaces(places, std::vector<Hypothesis>{{Pose::planar(0, 0, 0), 0.9, 0.03}, {Pose::planar(30, 0, 0), 0.75, 0.03}}, Pose(), 0.2, 0.6);
+  ASSERT_EQ(places.size(), 1u);  // 0.65 behind
+  EXPECT_NEAR(places[0].pose.x(), 0.0, 1e-9);
+  const std::vector<TrackedPlace> twins{{Pose::planar(0, 0, 0), 0.0, 2, 0}, {Pose::planar(0.4, 0, 0.1), 0.05, 2, 0}};
+  EXPECT_FALSE(contested(twins, 0.2));
+  const std::vector<TrackedPlace> rivals{{Pose::planar(0, 0, 0), 0.0, 2, 0}, {Pose::planar(0, 0, M_PI), 0.05, 2, 0}};
+  EXPECT_TRUE(contested(rivals, 0.2));  // the corridor seen both ways
 }
 
 }  // namespace polyloc::t_mcl_hypotheses

@@ -121,11 +121,17 @@ TEST(MclTracking, SymmetricRoomKeepsBothModes) {
   loc.initGlobal(0);
   ASSERT_GT(loc.particles().size(), 10000u);
   const Pose truth0 = Pose::planar(1.2, 0.4, 0.3);
+  size_t tracking = 0, rounds = 0;
   for (int i = 0; i < 8; ++i) {
     const Pose truth = truth0 * Pose::planar(0, 0, 0.1 * i);  // turning on the spot
     loc.addOdometry(int64_t(i) * 100'000'000, truth);
-    loc.addScan(0, int64_t(i) * 100'000'000, simulateScan(caster, rig.sensors[0], truth, 0.01, i));
+    if (loc.addScan(0, int64_t(i) * 100'000'000, simulateScan(caster, rig.sensors[0], truth, 0.01, i)))
+      ++rounds, tracking += loc.estimate().status == MclStatus::Tracking;
   }
+  // Never tracking while the search cannot tell the two places apart (each round, not only the last).
+  EXPECT_GE(rounds, 6u);
+  EXPECT_EQ(tracking, 0u);
+  EXPECT_TRUE(loc.searching());
   const Pose truth = truth0 * Pose::planar(0, 0, 0.7);
   const Pose mirror = Pose::planar(0, 0, M_PI) * truth;
   const ParticleSet& ps = loc.particles();

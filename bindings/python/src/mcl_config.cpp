@@ -57,7 +57,7 @@ void bindMclConfig(pb::module_& m) {
     using T = GlobalHypotheses;
     auto c = pb::class_<T>(m, "GlobalHypotheses", "hypotheses: refined modes in global localisation").def(pb::init<>());
     c POLYLOC_RW(count) POLYLOC_RW(separation) POLYLOC_RW(separation_yaw) POLYLOC_RW(particles)
-        POLYLOC_RW(spread_xy) POLYLOC_RW(spread_yaw) POLYLOC_RW(min_inlier_ratio) POLYLOC_RW(ratio_margin)
+        POLYLOC_RW(spread_xy) POLYLOC_RW(spread_yaw) POLYLOC_RW(min_inlier_ratio) POLYLOC_RW(ratio_margin) POLYLOC_RW(lead) POLYLOC_RW(drop)
         POLYLOC_RW(max_correction) POLYLOC_RW(max_correction_yaw) POLYLOC_RW(beams_per_scan) POLYLOC_RW(fresh);
   }
   {

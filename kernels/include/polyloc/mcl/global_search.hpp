@@ -28,7 +28,7 @@ class ScanScreen;
 
 struct GlobalRound {
   std::vector<Hypothesis> hypotheses;  // the places that fit this round, best first
-  bool ambiguous = false;              // more than one distinct place fits: the robot must move on
+  bool ambiguous = false;              // another place is less than hypotheses.lead behind the best: the robot must move on
   std::optional<Pose> best;            // the best place tracked over the rounds (at this round's odometry)
 };
 
@@ -53,9 +53,10 @@ class GlobalSearch {
   // map's walls are wrong places, however many of their beams found a wall. past_share as in
   // checkFit: local recovery near the track passes mcl.fit.past_share; the global round holds a
   // place to every beam (above 1), as a far place needs the stronger evidence.
+  // `also`: more start poses, refined as they are (the tracked places).
   std::vector<Hypothesis> fittingModes(std::span<const RefineScan> scans, const ParticleSet& ps,
                                        std::span<const Pose> positions, double heading_window = 0,
-                                       double past_share = 2.0) const;
+                                       double past_share = 2.0, std::span<const Pose> also = {}) const;
 
   size_t trackedPlaces() const { return tracked_.size(); }
 
