@@ -186,6 +186,7 @@ std::vector<CarmenGlobalTrial> runGlobal(const PreparedRun& p, const std::string
       const double yaw = std::abs(angleDiff(t.estimate.yaw(), gt->yaw()));
       t.yaw_err_deg = rad2deg(yaw);
       const bool within = t.pos_err <= o.global_pos_tol && yaw <= yaw_tol;
+      t.tracking_beyond_0_5m += r.frames[k].status == MclStatus::Tracking && t.pos_err > 0.5;
       if (!within) t.first_within = -1;
       else if (t.first_within < 0) t.first_within = int(k + 1);
     }

@@ -62,6 +62,7 @@ struct CarmenGlobalTrial {
   double pos_err = 0, yaw_err_deg = 0;  // after the last update
   size_t updates = 0;
   int first_within = -1;              // 1-based update from which every estimate is within tolerance, or -1
+  size_t tracking_beyond_0_5m = 0;    // updates published `tracking` more than 0.5 m from the truth (never confidently wrong)
   bool success = false;
   double filter_s = 0;
 };

@@ -55,13 +55,14 @@ double ratio(double a, double b) { return b > 0 ? a / b : std::numeric_limits<do
 
 struct GlobalSummary {
   size_t ok = 0;
+  size_t tracking_beyond_0_5m = 0;  // over every trial's updates
   std::vector<double> first;
   double filter_s = 0;
 };
 GlobalSummary summarizeGlobal(const std::vector<CarmenGlobalTrial>& trials) {
   GlobalSummary g;
   for (const auto& t : trials) {
-    g.ok += t.success, g.filter_s += t.filter_s;
+    g.ok += t.success, g.filter_s += t.filter_s, g.tracking_beyond_0_5m += t.tracking_beyond_0_5m;
     if (t.success) g.first.push_back(t.first_within);
   }
   return g;
@@ -132,12 +133,12 @@ nlohmann::json carmenMapJson(const CarmenMap& m, const CarmenEvalResult& r, cons
   nlohmann::json trials = nlohmann::json::array();
   for (const auto& t : m.global)
     trials.push_back({{"start", t.test_index}, {"success", t.success}, {"updates", t.updates}, {"first_within", t.first_within},
-                      {"pos_err_m", t.pos_err}, {"yaw_err_deg", t.yaw_err_deg}});
+                      {"pos_err_m", t.pos_err}, {"yaw_err_deg", t.yaw_err_deg}, {"tracking_beyond_0_5m", t.tracking_beyond_0_5m}});
   j["global"] = {{"trials", m.global.size()}, {"succeeded", g.ok},
                  {"fraction", m.global.empty() ? 0.0 : double(g.ok) / double(m.global.size())},
                  {"updates", o.global_updates}, {"pos_tol_m", o.global_pos_tol}, {"yaw_tol_deg", o.global_yaw_tol_deg},
                  {"median_first_within", g.first.empty() ? nlohmann::json(nullptr) : nlohmann::json(percentile(g.first, 50))},
-                 {"filter_s", g.filter_s}, {"results", trials}};
+                 {"tracking_beyond_0_5m", g.tracking_beyond_0_5m}, {"filter_s", g.filter_s}, {"results", trials}};
   return j;
 }
 
@@ -163,8 +164,9 @@ std::string carmenText(const CarmenEvalResult& r, const CarmenEvalOptions& o) {
       s += fmt::format("; floor RMSE {} cm, p95 {} cm, yaw RMSE {:.2f} deg", cm(m.floor->all.ate_rmse_m),
                        cm(m.floor->all.p95_pos_err_m), m.floor->all.yaw_rmse_deg);
     if (!m.global.empty())
-      s += fmt::format("; global {}/{} within {} m, {} deg after {} updates", summarizeGlobal(m.global).ok, m.global.size(),
-                       o.global_pos_tol, o.global_yaw_tol_deg, o.global_updates);
+      s += fmt::format("; global {}/{} within {} m, {} deg after {} updates, {} updates tracking beyond 0.5 m",
+                       summarizeGlobal(m.global).ok, m.global.size(), o.global_pos_tol, o.global_yaw_tol_deg, o.global_updates,
+                       summarizeGlobal(m.global).tracking_beyond_0_5m);
     s += "\n";
   }
   s += fmt::format("{:<24} {:>6} {:>8} {:>8} {:>7} {:>8} {:>8} {:>9} {:>11} {:>6} {:>6} {:>9}\n", "case (map/odometry/xN)", "frames",

@@ -5,7 +5,8 @@
 # figures measured with the same command (tests/cli/eval_carmen_expected.json): the floor within
 # 30 %, ATE / p95 / worst frame of each case and its ratio to the floor at most 1.4x the measured
 # (a 1.5x regression fails), no more relocalisations, tracking frames beyond 0.5 m or unannounced
-# jumps than measured, the global trials that succeeded at most one fewer (or 1.5x the failures);
+# jumps than measured, the global trials that succeeded at most one fewer (or 1.5x the failures)
+# and none of their updates `tracking` beyond 0.5 m;
 # on the logs marked so, the run twice gives the same estimates; the PNG is a picture with the paths and the global trials
 # drawn (png_check). Usage: eval_carmen.sh POLYLOC SRC LOG
 set -Eeuo pipefail
@@ -57,6 +58,9 @@ for n, ev in e["cases"].items():
 g, eg = m["global"], e["global"]
 fail, efail = g["trials"] - g["succeeded"], eg["trials"] - eg["succeeded"]
 assert g["trials"] == eg["trials"] and fail <= max(efail + 1, math.floor(1.5 * efail)), f"{name} global {g['succeeded']}/{g['trials']} vs {eg['succeeded']}"
+# Never confidently wrong after a uniform prior either: no update of a global trial published
+# `tracking` more than 0.5 m off (one on infinite-corridor did, 239 m, before the search's status cap).
+assert g["tracking_beyond_0_5m"] == 0, f"{name} global: {g['tracking_beyond_0_5m']} updates tracking beyond 0.5 m"
 PY
 # The picture (reloc/carmen_report.cpp): the map slice grey, the estimates of the mid drift case
 # blue and of the own case orange (drawn over the blue where they agree), the truth black, the
