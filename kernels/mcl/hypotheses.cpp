@@ -97,16 +97,17 @@ double evidence(const Hypothesis& h, double sigma) {
 void trackPlaces(std::vector<TrackedPlace>& places, std::span<const Hypothesis> hyps, const Pose& moved, double lead,
                  double drop, double sigma) {
   for (TrackedPlace& t : places) t.pose = t.pose * moved;
-  double leader = INFINITY, best = 0;
-  for (const TrackedPlace& t : places) leader = std::min(leader, t.deficit);
-  if (!std::isfinite(leader)) leader = 0;
+  const TrackedPlace* ahead = bestPlace(places);
+  const double leader = ahead ? ahead->deficit : 0.0;
+  double best = 0;
   for (const Hypothesis& h : hyps) best = std::max(best, evidence(h, sigma));
   std::vector<double> gain(places.size(), 0.0);
   for (const Hypothesis& h : hyps) {
     size_t k = 0;
     while (k < places.size() && !samePlace(places[k].pose, h.pose)) ++k;
     if (k == places.size()) places.push_back({h.pose, leader + lead, 0, 0}), gain.push_back(0.0);
-    if (evidence(h, sigma) > gain[k]) gain[k] = evidence(h, sigma), places[k].pose = h.pose;
+    const double e = evidence(h, sigma);
+    if (e > gain[k]) gain[k] = e, places[k].pose = h.pose;
   }
   for (size_t k = 0; k < places.size(); ++k) {
     TrackedPlace& t = places[k];

@@ -163,10 +163,11 @@ std::string carmenText(const CarmenEvalResult& r, const CarmenEvalOptions& o) {
     if (m.floor)
       s += fmt::format("; floor RMSE {} cm, p95 {} cm, yaw RMSE {:.2f} deg", cm(m.floor->all.ate_rmse_m),
                        cm(m.floor->all.p95_pos_err_m), m.floor->all.yaw_rmse_deg);
-    if (!m.global.empty())
-      s += fmt::format("; global {}/{} within {} m, {} deg after {} updates, {} updates tracking beyond 0.5 m",
-                       summarizeGlobal(m.global).ok, m.global.size(), o.global_pos_tol, o.global_yaw_tol_deg, o.global_updates,
-                       summarizeGlobal(m.global).tracking_beyond_0_5m);
+    if (!m.global.empty()) {
+      const GlobalSummary g = summarizeGlobal(m.global);
+      s += fmt::format("; global {}/{} within {} m, {} deg after {} updates, {} updates tracking beyond 0.5 m", g.ok,
+                       m.global.size(), o.global_pos_tol, o.global_yaw_tol_deg, o.global_updates, g.tracking_beyond_0_5m);
+    }
     s += "\n";
   }
   s += fmt::format("{:<24} {:>6} {:>8} {:>8} {:>7} {:>8} {:>8} {:>9} {:>11} {:>6} {:>6} {:>9}\n", "case (map/odometry/xN)", "frames",

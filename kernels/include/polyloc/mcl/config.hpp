@@ -175,8 +175,9 @@ struct GlobalHypotheses {
   double min_inlier_ratio = 0.6;   // refined fits with fewer inliers are dropped ...
   double ratio_margin = 0.1;       // ... and those more than this below the best one
   // Places tracked over the global rounds (hypotheses.hpp, TrackedPlace): the filter commits only
-  // when every other place is at least `lead` behind the leader in summed inlier share (a
-  // newcomer joins `lead` behind); places more than `drop` behind are forgotten.
+  // when every other place is at least `lead` behind the leader in summed evidence (inlier share
+  // times the residual's likelihood; a newcomer joins `lead` behind); places more than `drop`
+  // behind are forgotten.
   double lead = 0.2;
   double drop = 0.6;
   double max_correction = 0.6;     // m: how far the refinement may move a mode
