@@ -8,11 +8,12 @@ JOBS      ?= $(shell nproc)
 # EGL/GLES and Mesa's drivers: the GPU path (kernels/gpu), tested on llvmpipe where no GPU is.
 # node/npm (for the cross-check of our MCAP/CDR against the reference JS readers) are taken
 # from PATH when present, else from Debian.
+# Open3D: the TSDF fusion and mesh decimation of `polyloc map fuse` (kernels/fusion).
 # websocketpp + asio: the live view's server (service/live); chromium: its page's test, headless.
 APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libeigen3-dev libembree-dev libtbb-dev libassimp-dev libyaml-cpp-dev \
   libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev \
-  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev \
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopen3d-dev \
   libfastcdr-dev liboctomap-dev libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   libopenmpi-dev openmpi-bin \

@@ -77,4 +77,13 @@ PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load) {
   return c;
 }
 
+DepthFilterConfig loadDepthFilterConfig(const std::string& file) {
+  ConfigMap m = ConfigMap::load(file);
+  if (m.has("map")) return loadConfig(file).depth_filter;
+  DepthFilterConfig c;
+  if (m.has("depth_filter")) c = parseDepthFilterConfig(m.map("depth_filter"));
+  m.finish();
+  return c;
+}
+
 }  // namespace polyloc

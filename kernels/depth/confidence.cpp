@@ -159,7 +159,7 @@ void rejectLowConfidence(const ConfidenceFilter& cf, const DepthFrameView& frame
       const float d = work.depth[size_t(v) * w + u];
       s.kept[p] = 0.f;
       if (std::isnan(d)) continue;
-      const float sd = k * static_cast<float>(cf.noise + cf.noise_per_m * d);
+      const float sd = k * static_cast<float>(cf.noise + (cf.noise_per_m + cf.noise_per_m2 * d) * d);
       s.q[p] = 1.f / d, s.a[p] = d * d * d * d / (sd * sd), s.cand[p] = s.kept[p] = 1.f;
     }
   s.next = s.kept;

@@ -37,6 +37,7 @@ DepthFilterConfig parseDepthFilterConfig(ConfigMap m) {
     f.sigma = s.getDouble("sigma", f.sigma, 1e-3, 1e3);
     f.noise = s.getDouble("noise", f.noise, 1e-6, 10);
     f.noise_per_m = s.getDouble("noise_per_m", f.noise_per_m, 0, 10);
+    f.noise_per_m2 = s.getDouble("noise_per_m2", f.noise_per_m2, 0, 10);
     f.sigma_c = s.getDouble("sigma_c", f.sigma_c, 1e-12, 1e6);
     f.threshold = s.getDouble("threshold", f.threshold, 0, 1);
     f.min_support = intIn(s, "min_support", f.min_support, 1, 12);

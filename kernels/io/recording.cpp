@@ -2,6 +2,7 @@
 // then by name (bag directory, metadata.yaml, .db3, CARMEN extensions), and last by a sniff of
 // the first message line for CARMEN logs without a telling extension.
 #include <polyloc/io/recording.hpp>
+#include <polyloc/io/rgbd_dataset.hpp>
 
 #include <zlib.h>
 
@@ -58,11 +59,14 @@ std::unique_ptr<RecordingReader> openRecording(const std::string& path) {
   std::error_code ec;
   const fs::path p(path);
   if (!fs::exists(p, ec)) throw IoError(path + ": does not exist");
-  const std::string unreadable = path + ": not a recording polyloc can read (MCAP, ROS 2 bag, CARMEN log)";
+  const std::string unreadable =
+      path + ": not a recording polyloc can read (MCAP, ROS 2 bag, CARMEN log, TUM RGB-D or 7-Scenes folder)";
   if (fs::is_directory(p, ec)) {
     if (fs::exists(p / "metadata.yaml", ec)) return openRos2Bag(path);
     for (const auto& e : fs::directory_iterator(p, ec))
       if (e.path().extension() == ".db3") return openRos2Bag(path);
+    if (isTumRgbd(path)) return openTumRgbd(path);
+    if (isSevenScenes(path)) return openSevenScenes(path);
     throw IoError(unreadable);
   }
   const std::string magic = firstBytes(path, 16);

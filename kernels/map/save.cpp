@@ -65,20 +65,23 @@ aiMesh* buildMesh(const Mesh& mesh, const std::vector<size_t>& tris, const std::
   return m;
 }
 
-}  // namespace
-
-void saveMesh(const Mesh& mesh, const std::string& path) {
+const Format& formatOf(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  const Format* format = nullptr;
   for (const Format& f : kFormats)
-    if (ext == f.extension) format = &f;
-  if (!format)
-    throw MapError(
-        fmt::format("cannot save map '{}': unknown extension '{}' (use .obj, .ply, "
-                    ".stl, .gltf, .glb or .dae)",
-                    path, ext));
+    if (ext == f.extension) return f;
+  throw MapError(fmt::format("cannot save map '{}': unknown extension '{}' (use .obj, .ply, .stl, .gltf, .glb or .dae)",
+                             path, ext));
+}
+
+}  // namespace
+
+void checkMeshPath(const std::string& path) { formatOf(path); }
+
+void saveMesh(const Mesh& mesh, const std::string& path) {
+  const Format* format = &formatOf(path);
+  const std::string ext = format->extension;
   if (mesh.triangles.empty())
     throw MapError(fmt::format("cannot save map '{}': mesh is empty", path));
   if (mesh.triangle_label.size() != mesh.triangles.size())

@@ -113,6 +113,22 @@ void applySpecOverrides(ConfigMap m, SensorSpec& spec) {
     positiveAngle(m, "hfov", d->hfov_rad, deg2rad(170));
     positiveAngle(m, "vfov", d->vfov_rad, deg2rad(170));
     rangeAndRate(m, d->range_min, d->range_max, d->rate_hz);
+    // A calibrated pinhole (CameraInfo's K, pixel centres on integers): all four or none, and
+    // then no fields of view, which it implies.
+    const char* keys[] = {"fx", "fy", "cx", "cy"};
+    int given = 0;
+    for (const char* k : keys) given += m.has(k);
+    if (given > 0) {
+      if (given < 4) m.fail("a calibrated camera needs all of fx, fy, cx, cy (pixels)");
+      if (m.has("hfov") || m.has("vfov")) m.value(m.has("hfov") ? "hfov" : "vfov").fail("is implied by fx, fy, cx, cy: give one or the other");
+      double k[4];
+      for (int i = 0; i < 4; ++i) k[i] = m.value(keys[i]).asDouble();
+      try {
+        *d = depthCameraFromIntrinsics(d->width, d->height, k[0], k[1], k[2], k[3], d->range_min, d->range_max, d->rate_hz);
+      } catch (const std::invalid_argument& e) {
+        m.value("fx").fail(e.what());
+      }
+    }
   }
   m.finish();
 }

@@ -144,6 +144,7 @@ void registerEval(CLI::App& app) {
   registerEvalTracking(eval);
   registerEvalDepth(eval);
   registerEvalCarmen(eval);
+  registerEvalRgbd(eval);
   registerEvalNav(eval);
 }
 

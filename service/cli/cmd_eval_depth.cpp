@@ -22,16 +22,6 @@ struct EvalDepthArgs {
   bool full_rig = false, json = false;
 };
 
-// A polyloc config (it has a `map`) or a file holding just a `depth_filter:` section.
-DepthFilterConfig readDepthConfig(const std::string& file) {
-  ConfigMap m = ConfigMap::load(file);
-  if (m.has("map")) return loadConfig(file).depth_filter;
-  DepthFilterConfig c;
-  if (m.has("depth_filter")) c = parseDepthFilterConfig(m.map("depth_filter"));
-  m.finish();
-  return c;
-}
-
 nlohmann::json counts(const DepthQualityCounts& c) {
   return {{"outlier_removed", c.outlierRemoved()}, {"valid_kept", c.validKept()},
           {"flying_removed", c.flyingRemoved()},   {"reflection_removed", c.reflectionRemoved()},
@@ -40,7 +30,7 @@ nlohmann::json counts(const DepthQualityCounts& c) {
 
 void runEvalDepth(const EvalDepthArgs& a) {
   const Scenario s = loadScenario(a.scenario);
-  const DepthFilterConfig cfg = a.config.empty() ? s.config.depth_filter : readDepthConfig(a.config);
+  const DepthFilterConfig cfg = a.config.empty() ? s.config.depth_filter : loadDepthFilterConfig(a.config);
   DepthQualityOptions o;
   o.sensor = a.sensor;
   o.duration = a.duration;

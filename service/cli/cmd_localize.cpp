@@ -172,7 +172,7 @@ void registerLocalize(CLI::App& app) {
   using namespace cmd_localize_impl;
   auto args = std::make_shared<LocalizeArgs>();
   CLI::App& cmd = *app.add_subcommand("localize", "Localise a recorded run with Monte-Carlo localisation on the polygon map");
-  cmd.add_option("--input", args->input, "Recording: MCAP, ROS 2 bag (directory, metadata.yaml or .db3), CARMEN log")->required();
+  cmd.add_option("--input", args->input, "Recording: MCAP, ROS 2 bag (directory, metadata.yaml or .db3), CARMEN log, TUM RGB-D or 7-Scenes folder")->required();
   cmd.add_option("--config", args->config, "polyloc config (maps/config/*.yaml): map, rig, mcl")->required();
   addMapOption(cmd, args->map, "Polygon map (default: the config's)");
   cmd.add_option("--init", args->init, "Start pose x,y,yaw or x,y,z,yaw (m, deg)");

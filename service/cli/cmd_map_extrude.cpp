@@ -81,6 +81,7 @@ void drawExtrusion(const OccupancyGrid& grid, const Mesh& mesh, const std::vecto
 
 void run(const MapExtrudeArgs& a) {
   checkOutputs({{"--grid", a.grid}, {"--carmen", a.carmen}}, {{"--out", a.out}, {"--save-grid", a.save_grid}, {"--plot", a.plot}});
+  checkMeshPath(a.out);
   nlohmann::json j;
   std::vector<std::array<float, 2>> path;  // --carmen: laser positions of the scans used
   const OccupancyGrid grid = a.grid.empty() ? gridFromCarmen(a, j, path) : loadGridMap(a.grid);

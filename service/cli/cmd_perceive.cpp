@@ -330,7 +330,7 @@ void registerPerceive(CLI::App& app) {
   using namespace cmd_perceive_impl;
   auto a = std::make_shared<PerceiveArgs>();
   CLI::App* c = app.add_subcommand("perceive", "Virtual range scans and people tracking over a recording");
-  c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag or CARMEN log")->required()->check(CLI::ExistingPath);
+  c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag, CARMEN log, TUM RGB-D or 7-Scenes folder")->required()->check(CLI::ExistingPath);
   c->add_option("--config", a->config, "polyloc config (map, robot, rig, vrs, tracking)")->required()->check(CLI::ExistingFile);
   c->add_option("--out", a->out, "Output directory: perception.mcap and PNG snapshots")->required();
   c->add_option("--pose", a->pose, "Robot pose: ground_truth (the recording's /ground_truth) or odometry")->capture_default_str();

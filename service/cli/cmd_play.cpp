@@ -166,7 +166,7 @@ void registerPlay(CLI::App& app) {
   using namespace cmd_play_impl;
   auto a = std::make_shared<PlayArgs>();
   CLI::App* c = app.add_subcommand("play", "Feed a recording or a live simulation into polylocd's shared memory, and watch the results");
-  c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag or CARMEN log")->check(CLI::ExistingPath);
+  c->add_option("--input", a->input, "Recording: MCAP, ROS 2 bag, CARMEN log, TUM RGB-D or 7-Scenes folder")->check(CLI::ExistingPath);
   c->add_option("--scenario", a->scenario, "Scenario (maps/scenarios/*.yaml), simulated live")->check(CLI::ExistingFile);
   c->add_option("--shm", a->shm, "polylocd instance (segment /polyloc.NAME)")->required();
   c->add_option("--rate", a->rate, "Playback speed (1: real time)")->capture_default_str()->check(finiteRange(1e-3, 1e3));

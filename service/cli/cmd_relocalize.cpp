@@ -130,7 +130,7 @@ void registerRelocalize(CLI::App& app) {
   auto args = std::make_shared<RelocalizeArgs>();
   reloc::BatchOptions& b = args->batch;
   CLI::App& cmd = *app.add_subcommand("relocalize", "Localise many recordings in batch (TBB jobs, MPI ranks under mpirun)");
-  cmd.add_option("--input", b.inputs, "Recordings: MCAP, ROS 2 bag, CARMEN log (one or more)")->required();
+  cmd.add_option("--input", b.inputs, "Recordings: MCAP, ROS 2 bag, CARMEN log, TUM RGB-D or 7-Scenes folder (one or more)")->required();
   cmd.add_option("--config", args->config, "polyloc config (maps/config/*.yaml): map, rig, mcl")->required();
   cmd.add_option("--out", b.out_dir, "Output folder: <name>/ per input and summary.json")->required();
   addMapOption(cmd, args->map, "Polygon map (default: the config's)");

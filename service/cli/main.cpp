@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   polyloc::cli::registerMapInfo(map);
   polyloc::cli::registerMapGenerate(map);
   polyloc::cli::registerMapExtrude(map);
+  polyloc::cli::registerMapFuse(map);
   polyloc::cli::registerMapNavgrid(map);
   polyloc::cli::registerBench(app);
   polyloc::cli::registerDemo(app);

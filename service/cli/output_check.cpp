@@ -4,6 +4,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
@@ -17,6 +18,15 @@ bool samePath(const std::string& a, const std::string& b) {
   if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);  // links, hard links
   const fs::path ca = fs::weakly_canonical(fs::absolute(a, ec), ec), cb = fs::weakly_canonical(fs::absolute(b, ec), ec);
   return ca == cb;
+}
+
+// An existing file inside an input folder (a bag's .db3, a data set's images): one of its inputs.
+bool insideFolder(const std::string& file, const std::string& folder) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec) || !fs::exists(file, ec)) return false;
+  const fs::path f = fs::weakly_canonical(fs::absolute(file, ec), ec), d = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+  const auto [end, _] = std::mismatch(d.begin(), d.end(), f.begin(), f.end());
+  return end == d.end();
 }
 }  // namespace output_check_impl
 
@@ -33,6 +43,9 @@ void checkOutputs(const std::vector<PathArg>& inputs, const std::vector<PathArg>
       if (!in.path.empty() && samePath(outs[i]->path, in.path))
         throw std::runtime_error(fmt::format("{} {} is the input {}: refusing to overwrite it", outs[i]->option,
                                              outs[i]->path, in.option));
+      else if (!in.path.empty() && insideFolder(outs[i]->path, in.path))
+        throw std::runtime_error(fmt::format("{} {} is a file of the input folder {} {}: refusing to overwrite it",
+                                             outs[i]->option, outs[i]->path, in.option, in.path));
     for (size_t j = 0; j < i; ++j)
       if (samePath(outs[i]->path, outs[j]->path))
         throw std::runtime_error(fmt::format("{} and {} are the same file {}: each output needs its own",

@@ -1,6 +1,7 @@
 #include "reloc/topic_router.hpp"
 #include "reloc/recorded_rig.hpp"
 
+#include <polyloc/io/depth_image.hpp>
 #include <polyloc/io/recorded_geometry.hpp>
 
 #include <fmt/core.h>
@@ -36,9 +37,7 @@ int TopicRouter::sensorForScan(const std::string& topic) const {
 
 int TopicRouter::sensorForDepth(const std::string& topic) const {
   if (auto it = depth_cache_.find(topic); it != depth_cache_.end()) return it->second;
-  int s = -1;
-  if (topic.starts_with("/depth/") && topic.ends_with("/image") && topic.size() > 13)
-    s = rig_.find(topic.substr(7, topic.size() - 13));
+  const int s = rig_.find(depthSensorNameForTopic(topic));
   depth_cache_[topic] = s;
   return s;
 }
@@ -81,22 +80,20 @@ TopicRouter::Result TopicRouter::route(const std::string& topic, int64_t log_tim
     }
     if (!enabled_[r.sensor]) return r.kind = Kind::Disabled, r;
     const size_t n = size_t(img->width) * img->height;
-    if (img->encoding != "32FC1" || img->is_bigendian || n != factor.size() || img->step < img->width * 4 ||
-        img->data.size() < size_t(img->step) * img->height) {
-      r.kind = n != factor.size() ? Kind::WrongSize : Kind::BadImage;
-      r.why = fmt::format("{}: {}x{} {} image, sensor '{}' has {} pixels of 32FC1", topic, img->width, img->height,
-                          img->encoding, rig_.sensors[r.sensor].name, factor.size());
+    if (n != factor.size()) {
+      r.kind = Kind::WrongSize;
+      r.why = fmt::format("{}: {}x{} image, sensor '{}' has {} pixels", topic, img->width, img->height,
+                          rig_.sensors[r.sensor].name, factor.size());
       return r;
     }
-    // ToF cameras give depth along the optical axis; the filter wants range along the ray.
-    ranges.resize(n);
-    for (uint32_t v = 0; v < img->height; ++v)
-      for (uint32_t u = 0; u < img->width; ++u) {
-        float d;
-        std::memcpy(&d, img->data.data() + size_t(v) * img->step + size_t(u) * 4, 4);
-        const size_t b = size_t(v) * img->width + u;
-        ranges[b] = factor[b] > 0 ? d / factor[b] : std::numeric_limits<float>::quiet_NaN();
-      }
+    if (std::string bad = depthImageToMetres(*img, ranges); !bad.empty()) {
+      r.kind = Kind::BadImage;
+      r.why = fmt::format("{}: {} (sensor '{}')", topic, bad, rig_.sensors[r.sensor].name);
+      return r;
+    }
+    // Depth cameras give depth along the optical axis; the filter wants range along the ray.
+    for (size_t b = 0; b < n; ++b)
+      ranges[b] = factor[b] > 0 ? ranges[b] / factor[b] : std::numeric_limits<float>::quiet_NaN();
   } else {
     return r;  // odometry, tf, point clouds, camera info: the caller's or nobody's
   }

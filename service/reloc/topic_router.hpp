@@ -1,6 +1,7 @@
 // Which rig sensor a recorded topic feeds (`polyloc localize`, docs/localization.md): the
-// simulator's /scan/<sensor> (LaserScan) and /depth/<sensor>/image (32FC1 depth), a LaserScan on
-// /<sensor>, and CARMEN's /front_laser, /rear_laser, /robot_laser on the first, second, first
+// simulator's /scan/<sensor> (LaserScan) and /depth/<sensor>/image (32FC1 depth in m or 16UC1 in
+// mm), a depth Image elsewhere on the sensor its namespace names (/camera/depth/image_raw:
+// camera_depth), a LaserScan on /<sensor>, and CARMEN's /front_laser, /rear_laser, /robot_laser on the first, second, first
 // planar scanner of the rig when no sensor has that name; /ground_truth/... topics are no sensor.
 // Turns a message into the ranges the
 // Localizer takes, or says why it cannot (counted by the caller, warned once per topic).

@@ -32,7 +32,7 @@ void bindDepthConfig(pb::module_& m) {
     using T = ConfidenceFilter;
     pb::class_<T>(m, "ConfidenceFilter", "confidence: the thesis's eq. 6.4, iterated (docs/depth.md)")
         .def(pb::init<>()) POLYLOC_RW(enabled) POLYLOC_RW(prediction) POLYLOC_RW(iterations) POLYLOC_RW(reach)
-            POLYLOC_RW(sigma) POLYLOC_RW(noise) POLYLOC_RW(noise_per_m) POLYLOC_RW(sigma_c) POLYLOC_RW(threshold)
+            POLYLOC_RW(sigma) POLYLOC_RW(noise) POLYLOC_RW(noise_per_m) POLYLOC_RW(noise_per_m2) POLYLOC_RW(sigma_c) POLYLOC_RW(threshold)
                 POLYLOC_RW(min_support) POLYLOC_RW(colour);
   }
   {

@@ -99,6 +99,10 @@ void bindSensors(pb::module_& m) {
         return a.reshape({c.height, c.width});
       }, "(H, W) float32: depth = range * factor");
 
+  m.def("depth_camera_from_intrinsics", &depthCameraFromIntrinsics, pb::arg("width"), pb::arg("height"), pb::arg("fx"),
+        pb::arg("fy"), pb::arg("cx"), pb::arg("cy"), pb::arg("range_min") = 0.1, pb::arg("range_max") = 10.0,
+        pb::arg("rate_hz") = 30.0,
+        "A calibrated depth camera from CameraInfo's K (pixels; the first pixel's centre is 0). ValueError names a bad value.");
   m.def("sensor_preset", &sensorPreset, pb::arg("name"), "Spec of a preset: sick_s300, hokuyo_urg04lx, sick_lms200, vlp16, pmd_o3d100.");
   m.def("sensor_preset_names", &sensorPresetNames);
 

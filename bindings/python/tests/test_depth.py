@@ -73,3 +73,27 @@ def test_bad_frames():
     assert r.kept == 0 and r.counts["no_measurement"] == 50 * 64
     with pytest.raises(ValueError, match="not a depth camera"):
         polyloc.DepthFilter(polyloc.rig_preset("lisa")[0])
+
+
+
+def test_seven_scenes_folder_reads_as_a_recording(root):
+    redkitchen = root.parent / "shared/data/rgbd/7scenes-redkitchen"
+    if not redkitchen.is_dir():
+        pytest.skip(f"{redkitchen} is not here")
+    with polyloc.open_recording(str(redkitchen), topics=["/depth/camera/image", "/depth/camera/camera_info"]) as rec:
+        assert rec.format == "7scenes"
+        assert {t["name"]: t["count"] for t in rec.topics()}["/depth/camera/image"] == 1000
+        _, stamp, info = next(rec)
+        _, _, image = next(rec)
+    assert stamp == 1_000_000_000  # no stamps in 7-Scenes: frame n at 1 s + n / 30 Hz
+    k = info["k"]
+    assert k[0, 0] == 585.0 and k[0, 2] == 320.0
+    depth = image["image"]
+    assert depth.shape == (480, 640) and depth.dtype == np.float32
+    finite = depth[np.isfinite(depth)]
+    assert 0.02 < np.isnan(depth).mean() < 0.3  # the README: 11 % missing on average
+    assert 0.4 < np.median(finite) < 4.0 and finite.max() < 3.976  # metres, none above 3975 mm
+    cam = polyloc.depth_camera_from_intrinsics(640, 480, k[0, 0], k[1, 1], k[0, 2], k[1, 2])
+    assert cam.cx == pytest.approx(320.5) and cam.num_beams == 640 * 480
+    with pytest.raises(ValueError, match="fx"):
+        polyloc.depth_camera_from_intrinsics(640, 480, float("nan"), 585, 320, 240)

@@ -64,6 +64,9 @@ void applyRobot(PolylocConfig& c, const RobotSpec& robot);
 // Throws ConfigError naming file, line and key (also when the map file does not exist, and for a
 // missing map or a recorded rig that `load` does not allow).
 PolylocConfig loadConfig(const std::string& path, const ConfigLoad& load = {});
+// The depth filter settings of a file: a whole polyloc config (it has a `map`), or a file holding
+// just a `depth_filter:` section (or nothing: the defaults). Throws ConfigError naming file:line:key.
+DepthFilterConfig loadDepthFilterConfig(const std::string& path);
 
 // Sections, for files that embed or override them (scenarios). readMapConfig takes the `map`
 // value (a path or a mapping) and checks that the file exists.

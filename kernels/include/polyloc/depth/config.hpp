@@ -43,7 +43,8 @@ struct JumpEdgeFilter {
 //    angle neighbouring depths differ by decimetres, which is no inconsistency. `neighbour`
 //    keeps d_j itself, the formula as written.
 //  - sigma_d is the squared expected error of that prediction: (sigma x noise(d_i) x gain)^2
-//    with noise(d) = noise + noise_per_m d, so that the exponent is a squared z-score at any range.
+//    with noise(d) = noise + noise_per_m d + noise_per_m2 d^2 (a ToF camera's error grows with d,
+//    a structured-light camera's with d^2), so that the exponent is a squared z-score at any range.
 //  - s is divided by max(predictions available, min_support), so it lies in [0, 1]: about 1 on
 //    a smooth surface, near 0 for an isolated outlier, whatever holes or image borders are near.
 // s_j is binary: a prediction uses the nearest pixels along a direction (up to `reach` away)
@@ -61,7 +62,8 @@ struct ConfidenceFilter {
   int reach = 4;                     // px along each of the 8 directions
   double sigma = 2.0;                // tolerance in multiples of the prediction's noise
   double noise = 0.002;              // m: depth noise (1 sigma) at 0 m ...
-  double noise_per_m = 0.0008;       // ... plus this per metre (PMD O3D100: 2 mm + 0.8 mm/m)
+  double noise_per_m = 0.0008;       // ... plus this per metre (PMD O3D100: 2 mm + 0.8 mm/m) ...
+  double noise_per_m2 = 0.0;         // ... plus this per square metre (structured light, Kinect: 1.6e-3)
   double sigma_c = 2.0;              // squared colour units (log-amplitude or RGB in 0..1)
   double threshold = 0.3;            // pixels whose confidence ends below this are rejected
   int min_support = 2;               // predictions counted at least, so one alone is not certainty

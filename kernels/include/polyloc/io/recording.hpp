@@ -68,7 +68,7 @@ class RecordingReader {
   // Next message in log-time order; false at the end.
   virtual bool next(RecordedMessage& out) = 0;
   virtual const ReadStats& stats() const = 0;
-  virtual std::string format() const = 0;  // "mcap", "ros2bag", "carmen"
+  virtual std::string format() const = 0;  // "mcap", "ros2bag", "carmen", "tum-rgbd", "7scenes"
 };
 
 class RecordingWriter {
@@ -80,7 +80,8 @@ class RecordingWriter {
 };
 
 // By content and name: MCAP magic, a ROS 2 bag directory (or its metadata.yaml / .db3), a
-// CARMEN log (.log, .clf, .gz). Throws IoError naming the path when it is none of them.
+// CARMEN log (.log, .clf, .gz), a depth data set folder (TUM RGB-D, 7-Scenes:
+// io/rgbd_dataset.hpp). Throws IoError naming the path when it is none of them.
 std::unique_ptr<RecordingReader> openRecording(const std::string& path);
 
 // Format-specific entry points (each in its own file in kernels/io).

@@ -52,5 +52,8 @@ UpAxis parseUpAxis(const std::string& text);  // "auto", "z", "y", "x" (any case
 // object, mesh and material per label ("unlabelled" for ""), so labels survive a round trip
 // through OBJ, glTF/GLB and DAE (PLY and STL carry no names). Throws MapError on failure.
 void saveMesh(const Mesh& mesh, const std::string& path);
+// Throws the MapError saveMesh would for a path whose extension it cannot write: for commands to
+// check before their work rather than after it.
+void checkMeshPath(const std::string& path);
 
 }  // namespace polyloc
