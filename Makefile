@@ -22,7 +22,7 @@ APT_PACKAGES := g++ cmake ninja-build pkg-config \
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
   libwebsocketpp-dev libasio-dev chromium
 
-.PHONY: run test deps configure build bench bench-carmen check-figures sanitize clean
+.PHONY: run test deps configure build bench bench-carmen bench-rgbd check-figures sanitize clean
 
 # polylocd on the bundled lab, fed by a live simulation of the lab tour at real time (the
 # stand-in for a robot): status on the terminal (pose, error against ground truth, latency,
@@ -66,6 +66,17 @@ bench: build
 CARMEN_ARGS ?= --map-styles polyloc,endpoint --drift mid --decimate 1 --global-trials 10
 bench-carmen: build
 	CHECK=docs/carmen_figures.json ARGS="$(CARMEN_ARGS)" bench/carmen_table.sh $(BUILD_DIR)
+
+# The shared real depth sequence (../shared/data/rgbd/7scenes-redkitchen): a mesh fused from the
+# even frames, the odd frames judged against it (agreement floor, the Kinect settings' depth filter),
+# then the peer a user has today, Open3D's frame-to-mesh ICP (bench/peer_open3d_icp.py; skipped
+# without Debian's python3-open3d). Results in $(BUILD_DIR)/rgbd/.
+RGBD ?= ../shared/data/rgbd/7scenes-redkitchen
+bench-rgbd: build
+	@mkdir -p $(BUILD_DIR)/rgbd
+	$(BUILD_DIR)/bin/polyloc map fuse --input $(RGBD) --frames even --out $(BUILD_DIR)/rgbd/map_even.ply --plot $(BUILD_DIR)/rgbd/map_even.png --json >$(BUILD_DIR)/rgbd/fuse.json
+	$(BUILD_DIR)/bin/polyloc eval rgbd --input $(RGBD) --map $(BUILD_DIR)/rgbd/map_even.ply --frames odd --config maps/config/depth_kinect.yaml --json | tee $(BUILD_DIR)/rgbd/eval.json
+	/usr/bin/python3 bench/peer_open3d_icp.py --input $(RGBD) --map $(BUILD_DIR)/rgbd/map_even.ply --frames odd --json | tee $(BUILD_DIR)/rgbd/peer_icp.json
 
 # Every figure docs/benchmarks.md and README.md claim (docs/figures.json), re-measured with the
 # commands the doc quotes, the real-log table included (an hour or more on 2 shared cores): prints

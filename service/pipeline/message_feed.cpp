@@ -2,6 +2,7 @@
 
 #include "pipeline/shm_payloads.hpp"
 
+#include <polyloc/io/depth_image.hpp>
 #include <polyloc/io/message_pose.hpp>
 
 #include <cstddef>
@@ -12,7 +13,8 @@ namespace {
 
 int64_t stampOf(const msg::Header& h, int64_t log_ns) { return msg::toNs(h.stamp) ? msg::toNs(h.stamp) : log_ns; }
 
-// 32FC1 or 16UC1 (little-endian) into floats; false for other encodings or short data.
+// An amplitude image, 32FC1 or 16UC1 (little-endian), into floats; false for other encodings or
+// short data.
 bool floats(const msg::Image& img, std::vector<float>& out) {
   const size_t n = size_t(img.width) * img.height;
   out.resize(n);
@@ -102,7 +104,8 @@ MessageFeed::Sent MessageFeed::send(const std::string& topic, int64_t log_time_n
   const int64_t stamp = stampOf(img->header, log_time_ns) + shift;
   if (kind == "image") {
     if (d.pending) sendDepth(d, nullptr);  // the last one never got its amplitude
-    if (img->width != c.width || img->height != c.height || !floats(*img, d.depth)) {
+    // Depth as REP-118 has it: 32FC1 metres or 16UC1 millimetres (io/depth_image.hpp).
+    if (img->width != c.width || img->height != c.height || !depthImageToMetres(*img, d.depth).empty()) {
       // The header alone, so that polylocd counts and reports the bad frame.
       const polyloc_depth h{stamp, img->width, img->height, 0, 0};
       writer(d.channel).write(&h, sizeof h, stamp);
