@@ -75,7 +75,7 @@ RGBD ?= ../shared/data/rgbd/7scenes-redkitchen
 bench-rgbd: build
 	@mkdir -p $(BUILD_DIR)/rgbd
 	$(BUILD_DIR)/bin/polyloc map fuse --input $(RGBD) --frames even --out $(BUILD_DIR)/rgbd/map_even.ply --plot $(BUILD_DIR)/rgbd/map_even.png --json >$(BUILD_DIR)/rgbd/fuse.json
-	$(BUILD_DIR)/bin/polyloc eval rgbd --input $(RGBD) --map $(BUILD_DIR)/rgbd/map_even.ply --frames odd --config maps/config/depth_kinect.yaml --json | tee $(BUILD_DIR)/rgbd/eval.json
+	$(BUILD_DIR)/bin/polyloc eval rgbd --input $(RGBD) --map $(BUILD_DIR)/rgbd/map_even.ply --frames odd --config maps/config/depth_kinect.yaml --plot $(BUILD_DIR)/rgbd/eval.png --json | tee $(BUILD_DIR)/rgbd/eval.json
 	/usr/bin/python3 bench/peer_open3d_icp.py --input $(RGBD) --map $(BUILD_DIR)/rgbd/map_even.ply --frames odd --json | tee $(BUILD_DIR)/rgbd/peer_icp.json
 
 # Every figure docs/benchmarks.md and README.md claim (docs/figures.json), re-measured with the

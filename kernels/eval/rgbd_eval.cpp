@@ -6,6 +6,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <cmath>
@@ -78,6 +79,11 @@ RgbdEvalResult evaluateRgbd(const std::string& input, const RgbdEvalOptions& o) 
   double sum_t2 = 0, sum_r2 = 0;
   size_t evaluated = 0;
   auto reader = openRecording(input);
+  int64_t sample = o.sample_frame;
+  if (sample < 0) {  // past the middle of the images
+    for (const TopicInfo& t : reader->topics())
+      if (t.type == "sensor_msgs/msg/Image") sample = std::max<int64_t>(sample, int64_t(t.count / 2));
+  }
   PosedFrameStats st;
   forEachPosedFrame(
       *reader, input, selection, o.fusion.min_depth, o.fusion.max_depth, st,
@@ -98,12 +104,20 @@ RgbdEvalResult evaluateRgbd(const std::string& input, const RgbdEvalOptions& o) 
         filter->apply({st.camera.width, st.camera.height, f.depth.data()}, filtered);
         res.filter_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
         const int w = st.camera.width, h = st.camera.height, k = std::max(o.tolerance.align_px, 0);
+        const bool keep = res.sample.index < 0 && f.index >= sample;
+        if (keep) {
+          res.sample.index = f.index;
+          res.sample.measured = f.depth, res.sample.rendered = rendered, res.sample.kept = filtered.valid;
+          res.sample.label.assign(f.depth.size(), uint8_t(RgbdLabel::kNone));
+        }
+        auto mark = [&](size_t b, RgbdLabel l) { if (keep) res.sample.label[b] = uint8_t(l); };
         for (size_t b = 0; b < f.depth.size(); ++b) {
           const float z = f.depth[b];
           if (!(z > 0)) continue;  // no measurement: nothing to judge
           const float tol = float(o.tolerance.at(z));
           if (std::abs(z - rendered[b]) <= tol) {
             ++fr.good;
+            mark(b, RgbdLabel::kGood);
           } else {
             // Does a rendered pixel within k agree? Then the edge may just lie a pixel or two off.
             const int u = int(b % size_t(w)), v = int(b / size_t(w));
@@ -113,9 +127,9 @@ RgbdEvalResult evaluateRgbd(const std::string& input, const RgbdEvalOptions& o) 
                 const int uu = u + du, vv = v + dv;
                 if (uu >= 0 && vv >= 0 && uu < w && vv < h) near = std::abs(z - rendered[size_t(vv) * w + uu]) <= tol;
               }
-            if (near) ++fr.ambiguous;
-            else if (!std::isfinite(rendered[b])) ++fr.unlabelled;
-            else ++fr.outliers;
+            if (near) ++fr.ambiguous, mark(b, RgbdLabel::kAmbiguous);
+            else if (!std::isfinite(rendered[b])) ++fr.unlabelled, mark(b, RgbdLabel::kUnlabelled);
+            else ++fr.outliers, mark(b, RgbdLabel::kOutlier);
             if (near || !std::isfinite(rendered[b])) continue;
           }
           const bool outlier = std::abs(z - rendered[b]) > tol;

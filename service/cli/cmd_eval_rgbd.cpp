@@ -9,6 +9,8 @@
 #include <polyloc/configfile/polyloc_config.hpp>
 #include <polyloc/eval/rgbd_eval.hpp>
 
+#include "viz/rgbd_plot.hpp"
+
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -21,12 +23,13 @@ namespace polyloc::cli {
 namespace cmd_eval_rgbd_impl {  // named, not anonymous: the CLI is compiled in batches (unity build)
 
 struct EvalRgbdArgs {
-  std::string input, map, frames, config;
+  std::string input, map, frames, config, plot;
   size_t floor_every = 1;
   bool json = false;
 };
 
 void run(const EvalRgbdArgs& a) {
+  checkOutputs({{"--input", a.input}, {"--map", a.map}, {"--config", a.config}}, {{"--plot", a.plot}});
   RgbdEvalOptions o;
   o.map = a.map;
   o.frames = a.frames;
@@ -48,12 +51,23 @@ void run(const EvalRgbdArgs& a) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (tty) fmt::print(stderr, "\r\033[K");
   const double total = double(r.outliers + r.good);
+  if (!a.plot.empty()) {
+    const RgbdFilterStage& all = r.filter.back();
+    viz::drawRgbdEval(r,
+                      fmt::format("polyloc eval rgbd {}: {} frames against {} ({} triangles)\nfloor {:.2f} cm, {:.2f} deg "
+                                  "RMSE; {:.2f}% outlier pixels; the filter removes {} at {:.1f}% precision, {:.1f}% recall",
+                                  r.input, r.frames.size(), r.map, r.map_triangles, 100 * r.floor_rmse_translation,
+                                  r.floor_rmse_rotation * 180 / M_PI, total > 0 ? 100 * double(r.outliers) / total : 0.0,
+                                  all.removed, 100 * all.precision(), 100 * all.recall()),
+                      a.plot);
+  }
   if (a.json) {
     nlohmann::json filter = nlohmann::json::object();
     for (const RgbdFilterStage& s : r.filter)
       filter[s.name] = {{"removed", s.removed}, {"removed_outliers", s.removed_outliers}, {"removed_good", s.removed_good},
                         {"precision", s.precision()}, {"recall", s.recall()}};
     nlohmann::json j{{"input", r.input},
+                     {"sample_frame", r.sample.index},
                      {"map", r.map},
                      {"map_triangles", r.map_triangles},
                      {"frames", r.frames.size()},
@@ -99,6 +113,7 @@ void registerEvalRgbd(CLI::App& eval) {
   c->add_option("--config", a->config, "polyloc config or a file with a depth_filter: section")->check(CLI::ExistingFile);
   c->add_option("--floor-every", a->floor_every, "Compute the floor on every n-th frame")->capture_default_str()
       ->check(CLI::Range(1, 1000000));
+  c->add_option("--plot", a->plot, "PNG: one frame's depth, the mesh rendered at its truth and the labels; the floor per frame");
   c->add_flag("--json", a->json, "Print one JSON object on stdout");
   c->callback([a] {
     try {

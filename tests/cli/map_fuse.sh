@@ -25,6 +25,9 @@ size = [hi - lo for lo, hi in zip(m["bounds_min"], m["bounds_max"])]
 assert all(1.0 < s < 6.0 for s in size), size
 PY
 [ -s "$tmp/k.png" ]
+# The same map byte for byte on one thread (Open3D integrates with OpenMP).
+OMP_NUM_THREADS=1 "$polyloc" map fuse --input "$kitchen" --frames 0:90:3 --triangles 40000 --out "$tmp/k1.ply" --json >/dev/null
+cmp "$tmp/k.ply" "$tmp/k1.ply"
 info=$("$polyloc" map info "$tmp/k.ply" --json)
 grep -q '"triangles":[34][0-9]\{4\}' <<<"$info"
 

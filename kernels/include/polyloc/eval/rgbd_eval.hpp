@@ -41,9 +41,12 @@ struct RgbdEvalOptions {
   DepthTolerance tolerance;
   RefineConfig floor_refine = floorRefineDefaults();  // the floor's ICP
   size_t floor_every = 1;             // the floor on every n-th evaluated frame (it casts a lot)
+  int64_t sample_frame = -1;          // the frame kept whole for a picture; -1: the first evaluated past the middle
   std::function<void(const std::string& stage, double fraction)> progress;
   static RefineConfig floorRefineDefaults();  // 6-DoF, no search, 2000 pixels, 30 iterations
 };
+
+enum class RgbdLabel : uint8_t { kNone = 0, kGood, kOutlier, kAmbiguous, kUnlabelled };
 
 struct RgbdFrameResult {
   int64_t index = 0, stamp_ns = 0;
@@ -74,6 +77,13 @@ struct RgbdEvalResult {
   double floor_rmse_translation = 0, floor_rmse_rotation = 0;
   std::vector<RgbdFilterStage> filter;  // per stage, then "filter" (the whole chain)
   double filter_seconds = 0;          // the filter's own time over all frames
+  // One frame whole (RgbdEvalOptions::sample_frame), row-major: measured and rendered depth (m,
+  // NaN: none), the label of each pixel (RgbdLabel), the filter's verdict (1 kept).
+  struct Sample {
+    int64_t index = -1;
+    std::vector<float> measured, rendered;
+    std::vector<uint8_t> label, kept;
+  } sample;
   uint64_t outliers = 0, good = 0, ambiguous = 0, unlabelled = 0;
 };
 
