@@ -30,9 +30,11 @@ std::string lower(std::string s) {
 
 RgbdIntrinsics tumIntrinsics(const std::string& folder) {
   // The benchmark's calibrated intrinsics per camera (its "Intrinsic Camera Calibration" page).
-  const std::string name = lower(fs::path(folder).lexically_normal().filename().string().empty()
-                                     ? fs::path(folder).lexically_normal().parent_path().filename().string()
-                                     : fs::path(folder).lexically_normal().filename().string());
+  // The folder's own name, also for "." or "dir/".
+  std::error_code ec;
+  fs::path path = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+  if (path.filename().empty()) path = path.parent_path();
+  const std::string name = lower(path.filename().string());
   RgbdIntrinsics k;
   k.depth_scale = 5000.0;
   if (name.find("freiburg1") != std::string::npos) {
@@ -90,8 +92,13 @@ std::unique_ptr<RecordingReader> openTumRgbd(const std::string& dir, const std::
     TumReader reader(gt.string());
     std::vector<StampedPose> truth;
     StampedPose p;
-    while (reader.next(p))
+    while (reader.next(p)) {
+      if (p.pose.translation().cwiseAbs().maxCoeff() > 1e4) {  // as 7-Scenes' pose files: no room is 10 km
+        stats.warn(fmt::format("{}: pose at {:.6f} s is beyond 10 km: skipped", gt.string(), p.stamp_ns * 1e-9));
+        continue;
+      }
       if (truth.empty() || p.stamp_ns > truth.back().stamp_ns) truth.push_back(p);
+    }
     for (const std::string& w : reader.warnings()) stats.warn(w);
     stats.rejected += reader.rejected() - reader.warnings().size();  // counted beyond the first warnings
     size_t without = 0;

@@ -114,7 +114,8 @@ struct TumFolder {
                                               "99.99 0 0 0 0 0 0 1\n"
                                               "100.01 1 0 0 0 0 0 1\n"
                                               "100.06 2 0 0 0 0 0 1\n"
-                                              "100.07 3 0 0 0 0 0 1\n";
+                                              "100.07 3 0 0 0 0 0 1\n"
+                                              "100.08 1e19 0 0 0 0 0 1\n";  // skipped, counted
   }
 };
 
@@ -137,6 +138,9 @@ TEST(RgbdDataset, TumLayoutInterpolatesTruthAndCountsBadFrames) {
   EXPECT_TRUE(std::isnan(pixel(*images[2], 2, 1)));
   ASSERT_NE(info, nullptr);
   EXPECT_EQ(info->k[0], 520.9);  // freiburg2, by the folder's name
+  EXPECT_EQ(tumIntrinsics(f.dir.string() + "/").fx, 520.9);                      // a trailing slash
+  EXPECT_EQ(tumIntrinsics((f.dir / "depth" / "..").string()).fx, 520.9);          // and ".." say the same
+  EXPECT_EQ(tumIntrinsics(f.tmp.path().string()).fx, 525.0);                     // no freiburg: ROS's default
   // Truth: 100.000 between 99.99 and 100.01 (x 0.5), 100.033 and 100.050 (x 1.46, 1.8) for the
   // skipped images too, 100.066 (x 2.6); 101.0 has no sample within 50 ms.
   ASSERT_EQ(truth.size(), 4u);
@@ -146,7 +150,7 @@ TEST(RgbdDataset, TumLayoutInterpolatesTruthAndCountsBadFrames) {
   EXPECT_NEAR(truth[3].second.translation().x(), 2.6, 1e-9);
   EXPECT_LT((truth[0].second.rotate({1, 0, 0}) - Eigen::Vector3d(0, 0, 1)).norm(), 1e-9);
   const ReadStats& st = reader->stats();
-  EXPECT_EQ(st.rejected, 4u);  // two depth.txt lines, two images
+  EXPECT_EQ(st.rejected, 5u);  // two depth.txt lines, two images, a pose 1e19 m away
   bool named = false;
   for (const auto& w : st.warnings) named |= w.find("broken.png") != std::string::npos;
   EXPECT_TRUE(named);
