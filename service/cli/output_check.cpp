@@ -5,6 +5,8 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cctype>
+#include <iterator>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
@@ -20,10 +22,16 @@ bool samePath(const std::string& a, const std::string& b) {
   return ca == cb;
 }
 
-// An existing file inside an input folder (a bag's .db3, a data set's images): one of its inputs.
+// An existing file of the kind a recording folder holds (a bag's .db3 and metadata.yaml, a data
+// set's images, lists and poses, an MCAP) inside an input folder: one of its inputs. A result a
+// run left there before (.tum, .ply, .json) may be written again.
 bool insideFolder(const std::string& file, const std::string& folder) {
   std::error_code ec;
   if (!fs::is_directory(folder, ec) || !fs::exists(file, ec)) return false;
+  std::string ext = fs::path(file).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  static const char* kData[] = {".png", ".jpg", ".jpeg", ".txt", ".db3", ".yaml", ".mcap", ".log", ".gz"};
+  if (std::none_of(std::begin(kData), std::end(kData), [&](const char* e) { return ext == e; })) return false;
   const fs::path f = fs::weakly_canonical(fs::absolute(file, ec), ec), d = fs::weakly_canonical(fs::absolute(folder, ec), ec);
   const auto [end, _] = std::mismatch(d.begin(), d.end(), f.begin(), f.end());
   return end == d.end();

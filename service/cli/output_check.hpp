@@ -1,5 +1,6 @@
 // Before any work, a command checks its output paths: an output that resolves to one of its
-// inputs, to an existing file inside an input folder (a bag's, a data set's), or to another of
+// inputs, to an existing data file inside an input folder (a bag's .db3, a data set's images
+// and lists; not a result such as a .tum left there before), or to another of
 // its outputs (through links, "..", hard links) is refused, and so is
 // one that cannot be written (missing or read-only folder, a folder where a file is expected).
 // A run that would end by failing to write, or by overwriting its own recording, never starts.

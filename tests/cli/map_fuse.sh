@@ -50,6 +50,9 @@ out=$("$polyloc" map fuse --input "$tmp/three" --out "$tmp/three.ply" --json 2>"
 grep -q '"fused":1,' <<<"$out"
 grep -q '"without_pose":2' <<<"$out"
 grep -q 'frame-000002.pose.txt.*not a finite number' "$tmp/err"
+# A map left in the data set's folder by an earlier run may be written again; its images may not.
+"$polyloc" map fuse --input "$tmp/three" --out "$tmp/three/map.ply" --json >/dev/null 2>&1
+"$polyloc" map fuse --input "$tmp/three" --out "$tmp/three/map.ply" --json >/dev/null 2>&1
 
 # Errors name what is wrong.
 if err=$("$polyloc" map fuse --input "$kitchen" --frames 5:2 --out "$tmp/x.ply" 2>&1); then exit 1; fi
