@@ -115,7 +115,8 @@ RgbdEvalResult evaluateRgbd(const std::string& input, const RgbdEvalOptions& o) 
           const float z = f.depth[b];
           if (!(z > 0)) continue;  // no measurement: nothing to judge
           const float tol = float(o.tolerance.at(z));
-          if (std::abs(z - rendered[b]) <= tol) {
+          const bool outlier = !(std::abs(z - rendered[b]) <= tol);  // NaN rendered: not good
+          if (!outlier) {
             ++fr.good;
             mark(b, RgbdLabel::kGood);
           } else {
@@ -127,12 +128,16 @@ RgbdEvalResult evaluateRgbd(const std::string& input, const RgbdEvalOptions& o) 
                 const int uu = u + du, vv = v + dv;
                 if (uu >= 0 && vv >= 0 && uu < w && vv < h) near = std::abs(z - rendered[size_t(vv) * w + uu]) <= tol;
               }
-            if (near) ++fr.ambiguous, mark(b, RgbdLabel::kAmbiguous);
-            else if (!std::isfinite(rendered[b])) ++fr.unlabelled, mark(b, RgbdLabel::kUnlabelled);
-            else ++fr.outliers, mark(b, RgbdLabel::kOutlier);
-            if (near || !std::isfinite(rendered[b])) continue;
+            if (near) {
+              ++fr.ambiguous, mark(b, RgbdLabel::kAmbiguous);
+              continue;
+            }
+            if (!std::isfinite(rendered[b])) {
+              ++fr.unlabelled, mark(b, RgbdLabel::kUnlabelled);
+              continue;
+            }
+            ++fr.outliers, mark(b, RgbdLabel::kOutlier);
           }
-          const bool outlier = std::abs(z - rendered[b]) > tol;
           const DepthReject why = filtered.reason[b];
           for (size_t s = 0; s < std::size(kStages); ++s) {
             RgbdFilterStage& stage = res.filter[s];
